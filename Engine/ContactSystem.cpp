@@ -1,0 +1,150 @@
+#include "ContactSystem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace jawari
+{
+
+void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::MatrixXd couplingA)
+{
+    points_ = points;
+    A_ = std::move(couplingA);
+    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
+    diagonal_ = true;
+    for (Eigen::Index i = 0; i < P; ++i)
+        for (Eigen::Index j = 0; j < P; ++j)
+            if (i != j && std::abs(A_(i, j)) > 1e-12 * std::sqrt(std::abs(A_(i, i) * A_(j, j))))
+                diagonal_ = false;
+    if (diagonal_)
+        A_ = Eigen::MatrixXd(A_.diagonal().asDiagonal());
+    G_.setZero(P);
+    dG_.setZero(P);
+    phi_.setZero(P);
+    trialPhi_.setZero(P);
+    step_.setZero(P);
+    AG_.setZero(P);
+    trial_.setZero(P);
+    r_.setZero(P);
+    J_.setZero(P, P);
+    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(P);
+    previousR_.assign(points_.size(), 0.0);
+    previousContact_.assign(points_.size(), 0);
+}
+
+void ContactSystem::reset()
+{
+    std::fill(previousContact_.begin(), previousContact_.end(), 0);
+}
+
+double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
+                               bool withDerivative)
+{
+    const Eigen::Index P = r.size();
+    for (Eigen::Index j = 0; j < P; ++j)
+    {
+        const ChordSlope c = chordSlope(points_[j].law, s[j], r[j]);
+        G_[j] = c.value;
+        if (withDerivative)
+            dG_[j] = c.derivative;
+    }
+    phi.noalias() = A_ * G_;
+    phi += r;
+    for (Eigen::Index j = 0; j < P; ++j)
+        phi[j] -= b[j];
+    return phi.lpNorm<Eigen::Infinity>();
+}
+
+void ContactSystem::gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r)
+{
+    const Eigen::Index P = r.size();
+    for (Eigen::Index j = 0; j < P; ++j)
+    {
+        double others = 0.0;
+        for (Eigen::Index i = 0; i < P; ++i)
+            if (i != j)
+                others += A_(j, i) * chordSlope(points_[i].law, s[i], r[i]).value;
+        r[j] = solveScalarContact(points_[j].law, s[j], b[j] - others, A_(j, j)).r;
+    }
+}
+
+int ContactSystem::solve(const double* s, const double* b, double* r, double* slope)
+{
+    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
+    if (diagonal_)
+    {
+        int most = 0;
+        for (Eigen::Index j = 0; j < P; ++j)
+        {
+            const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j),
+                                                previousContact_[j] ? &previousR_[j] : nullptr);
+            r[j] = sol.r;
+            slope[j] = sol.slope;
+            previousR_[j] = sol.r;
+            previousContact_[j] = sol.slope != 0.0;
+            most = std::max(most, sol.iterations);
+        }
+        return most;
+    }
+
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    constexpr int maxIterations = 100;
+    for (Eigen::Index j = 0; j < P; ++j)
+        r_[j] = b[j];
+    double norm = residual(s, b, r_, phi_, true);
+    int it = 0;
+    if (G_.isZero(0.0))
+        norm = 0.0;  // nobody touches with the contact-free prediction: r = b
+    while (norm > 0.0 && it < maxIterations)
+    {
+        ++it;
+        AG_.noalias() = A_ * G_;
+        const double scale = r_.lpNorm<Eigen::Infinity>() + Eigen::Map<const Eigen::VectorXd>(b, P).lpNorm<Eigen::Infinity>()
+                             + AG_.lpNorm<Eigen::Infinity>();
+        if (norm <= 4.0 * eps * scale)
+            break;
+        J_.noalias() = A_ * dG_.asDiagonal();
+        J_.diagonal().array() += 1.0;
+        lu_.compute(J_);
+        step_.noalias() = lu_.solve(phi_);  // into preallocated storage: no temporary
+        step_ = -step_;
+        double t = 1.0;
+        bool accepted = false;
+        for (int halving = 0; halving < 40; ++halving, t *= 0.5)
+        {
+            trial_ = r_ + t * step_;
+            const double trialNorm = residual(s, b, trial_, trialPhi_, false);
+            if (std::isfinite(trialNorm) && trialNorm <= (1.0 - 1e-4 * t) * norm)
+            {
+                accepted = true;
+                break;
+            }
+        }
+        if (accepted)
+        {
+            const double moved = (t * step_).lpNorm<Eigen::Infinity>();
+            r_ = trial_;
+            norm = residual(s, b, r_, phi_, true);
+            if (moved <= eps * scale)
+                break;
+        }
+        else
+        {
+            // Stalled line search (kinks of [.]_+ at alpha near 1): a sweep of exact scalar solves.
+            gaussSeidelSweep(s, b, r_);
+            const double before = norm;
+            norm = residual(s, b, r_, phi_, true);
+            if (norm >= before)
+                break;
+        }
+    }
+    for (Eigen::Index j = 0; j < P; ++j)
+    {
+        r[j] = r_[j];
+        slope[j] = chordSlope(points_[j].law, s[j], r_[j]).value;
+    }
+    return it;
+}
+
+}  // namespace jawari

@@ -1,0 +1,50 @@
+#pragma once
+// The implicit contact solve of DESIGN.md section 2 for P coupled points:
+//   r + A G(r) = b,   A = (dt^2/mu) Phi Phi^T W,   G_j the chord slope of point j.
+// A diagonal A splits into P scalar solves (the reference grid: Phi Phi^T W = I). Otherwise a
+// Newton iteration with a backtracking line search on |phi|, falling back to nonlinear
+// Gauss-Seidel sweeps of scalar solves when the line search stalls.
+
+#include "ContactLaw.h"
+#include "Obstacle.h"
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace jawari
+{
+
+class ContactSystem
+{
+public:
+    // OFF: sizes every workspace so solve() never allocates.
+    void prepare(const std::vector<ContactPoint>& points, Eigen::MatrixXd couplingA);
+
+    int size() const { return static_cast<int>(points_.size()); }
+    bool isDiagonal() const { return diagonal_; }
+    const Eigen::MatrixXd& coupling() const { return A_; }
+
+    // Forget the warm-start history (new initial state). RT.
+    void reset();
+
+    // RT. s_j = g_j - u_j^{n-1}, b_j = u~_j - u_j^{n-1}. Writes r and the slopes G_j(r_j)
+    // (force per metre -G_j). Returns the iteration count (max over points when decoupled).
+    int solve(const double* s, const double* b, double* r, double* slope);
+
+private:
+    double residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
+                    bool withDerivative);
+    void gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r);
+
+    std::vector<ContactPoint> points_;
+    Eigen::MatrixXd A_;
+    bool diagonal_ = true;
+    Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;
+    Eigen::MatrixXd J_;
+    std::vector<double> previousR_;  // warm start: last step's r where the point was in contact
+    std::vector<char> previousContact_;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+};
+
+}  // namespace jawari

@@ -1,0 +1,131 @@
+#pragma once
+// The mixed modal scheme of DESIGN.md section 2: M modes, each advanced by its exact update, and
+// the energy-conserving contact force at P contact points.
+//
+//   q~ = a q^n - e q^{n-1}                      (contact-free prediction, exact per mode)
+//   r + (dt^2/mu) Phi Phi^T W G(r) = Phi q~ - u_C^{n-1}     (implicit contact, ContactSystem)
+//   q^{n+1} = q~ + (dt^2/mu) Phi^T W f,   f = -G(r)
+//
+// Two ways to reach the contact points:
+//  - projection: Phi stored (P x M), O(M P) per step; any points, any M (the few-point path);
+//  - transform: the reference grid (M = N - 1, every contact point on a distinct node x_i = i L/N),
+//    where Phi Phi^T W is diagonal and q <-> u is a DST-I (FFTW RODFT00), O(N log N) per step.
+
+#include "ContactSystem.h"
+#include "ExactOscillator.h"
+#include "Obstacle.h"
+#include "StringModel.h"
+
+#include <memory>
+#include <vector>
+
+namespace jawari
+{
+
+enum class ContactPath
+{
+    automatic,   // transform when many points can touch and the grid allows it, else projection
+    projection,  // the few-point path
+    transform    // the DST-I path (reference grid only)
+};
+
+struct ModalSolverConfig
+{
+    double lengthMetres = 1.002;
+    double linearDensity = 1.17e-3;
+    double timeStep = 5e-7;  // s
+    ModalTable modes;
+    std::vector<ContactPoint> contacts;
+    std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
+    ContactPath path = ContactPath::automatic;
+};
+
+class ModalSolver
+{
+public:
+    explicit ModalSolver(const ModalSolverConfig& config);  // OFF: tables, Phi, FFTW plans
+    ~ModalSolver();
+    ModalSolver(const ModalSolver&) = delete;
+    ModalSolver& operator=(const ModalSolver&) = delete;
+
+    // OFF/CT: modal displacements at t = 0 with zero velocity; q^{-1} is set from each mode's
+    // exact free motion, so without contact the run is the analytic solution.
+    void setInitialDisplacement(const std::vector<double>& modalDisplacement);
+    // OFF/CT: an explicit state pair (q^n, q^{n-1}).
+    void setState(const std::vector<double>& current, const std::vector<double>& previous);
+
+    void step();  // RT: n -> n+1
+
+    int modeCount() const { return M_; }
+    // Modes actually stepped: a mode that no contact point couples to (phi_p(x_j) = 0 for every j,
+    // to 1e-13 of the largest) and that starts at rest at zero stays exactly zero, so it is skipped
+    // (the centre obstacle and centre pluck leave every even mode out). Projection path only.
+    int activeModeCount() const { return Ma_; }
+    int contactCount() const { return P_; }
+    bool usesTransform() const { return transform_ != nullptr; }
+    double timeStep() const { return dt_; }
+
+    double pickup() const { return pickup_; }                       // RT: sum h_p q_p^n
+    int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
+    double lastMaxPenetration() const { return lastPenetration_; }  // RT: max_j g_j - u_j^n (m)
+
+    // OFF: the full modal state, q^n (previous = false) or q^{n-1}.
+    std::vector<double> modalState(bool previous = false);
+
+    // H^{n-1/2} of DESIGN.md section 2 from the stored (q^n, q^{n-1}), contact part recomputed
+    // from the modal state (not from the solver's bookkeeping). CT/OFF.
+    struct Energy
+    {
+        double total = 0.0;
+        double contact = 0.0;  // sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2
+    };
+    Energy energy();
+    // The string part of H for a full pair (q^{n+1}, q^n), and the losses of the step
+    // (q^{n+1}, q^{n-1}): H^{n+1/2} - H^{n-1/2} = -sum mu (1-e_p) ((q^{n+1}-q^{n-1})/(2dt))^2.
+    double modalEnergy(const double* next, const double* current) const;
+    double stepLoss(const double* next, const double* previous) const;
+    // Contact part of H for a full pair (q^{n+1}, q^n).
+    double contactEnergy(const double* next, const double* current) const;
+    // Displacement at the contact points for a full modal state.
+    void contactDisplacement(const double* q, double* u) const;
+
+    const std::vector<ExactModeCoefficients>& coefficients() const { return coeffs_; }
+
+private:
+    struct Transform;
+    void predict();  // q~ into qPrev_, pickup and contact projections of q~
+    void settle();   // applies a pending one-point correction to q_
+    void compact(const std::vector<double>& current, const std::vector<double>& previous);
+    void projectActive(const double* qActive, double* u) const;
+
+    int M_ = 0;   // modes of the model
+    int Ma_ = 0;  // modes stepped (active)
+    int P_ = 0;
+    double dt_ = 0.0;
+    double mu_ = 0.0;
+    double forceScale_ = 0.0;  // dt^2 / mu
+    std::vector<ExactModeCoefficients> coeffs_;  // all M modes
+    std::vector<double> omega_, sigma_, pickupWeights_;
+    std::vector<double> shapes_;  // P x M, phi_p(x_j) for every mode (projection path)
+    std::vector<char> coupled_;   // mode p touches some contact point
+
+    // Stepping arrays over the active modes (all modes in the transform path).
+    std::vector<int> active_;
+    std::vector<ExactModeCoefficients> activeCoeffs_;
+    std::vector<double> a_, e_, h_;
+    std::vector<double> q_, qPrev_;
+    std::vector<double> phi_;  // P x Ma
+
+    std::vector<double> pickupPhiW_;  // (dt^2/mu) w_j (h . phi_j)
+    std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_;
+    std::vector<ContactPoint> contacts_;
+    ContactSystem system_;
+    std::unique_ptr<Transform> transform_;
+    double pendingCorrection_ = 0.0;  // one-point path: q_ += this * phi, applied in the next pass
+    double pickup_ = 0.0;
+    double pickupTilde_ = 0.0;
+    int lastIterations_ = 0;
+    double lastPenetration_ = 0.0;
+};
+
+}  // namespace jawari

@@ -1,0 +1,180 @@
+#include "OfflineRender.h"
+
+#include "CpuClock.h"
+#include "Denormals.h"
+#include "ModalSolver.h"
+#include "Resampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace jawari
+{
+namespace
+{
+
+struct SolverSetup
+{
+    ModalSolverConfig config;
+    std::vector<double> initial;
+    double rateHz = 0.0;
+};
+
+// The reference (DESIGN.md section 2): M = N - 1 modes, distributed obstacles sampled at every
+// grid node x_i = i L/N with weight dx, point obstacles at their own positions.
+SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
+{
+    SolverSetup s;
+    const auto& str = scene.string;
+    const int M = scene.simulation.modes.value_or(kReferenceModes);
+    s.rateHz = scene.simulation.rateHz.value_or(kReferenceRateHz);
+    const double L = str.lengthMetres;
+    auto& c = s.config;
+    c.lengthMetres = L;
+    c.linearDensity = str.linearDensity;
+    c.timeStep = 1.0 / s.rateHz;
+    c.modes = buildModalTable(str, M);
+    c.contacts = contactPointsOnGrid(scene.obstacles, L, M + 1);
+    c.path = path.value_or(ContactPath::automatic);
+    c.pickupWeights.resize(M);
+    for (int p = 1; p <= M; ++p)
+    {
+        if (scene.pickup.quantity == PickupQuantity::force)
+        {
+            // Force on the termination at x = 0: T u_x(0) - EI u_xxx(0) = sum_p q_p phi_p'(0) mu w_p^2 / k_p^2
+            // (mu w_p^2 = T k_p^2 + EI k_p^4 for the law; measured frequencies keep the modal stiffness).
+            const double k = p * std::numbers::pi / L;
+            c.pickupWeights[p - 1] = std::sqrt(2.0 / L) * str.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
+        }
+        else
+            c.pickupWeights[p - 1] = modeShape(L, p, scene.pickup.position);
+    }
+    s.initial = pluckModalShape(L, M, scene.excitation.position, scene.excitation.amplitude);
+    return s;
+}
+
+// Steps the solver, handing each internal sample of the pickup quantity to `sink`, and each
+// step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt.
+template <typename Sink, typename AfterStep>
+void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderStats& stats, const RenderOptions& options,
+         Sink&& sink, AfterStep&& afterStep)
+{
+    ScopedFlushDenormals noDenormals;
+    const double dt = solver.timeStep();
+    // The pluck starts from rest, so the velocity at n = 0 is 0 exactly.
+    double yPrev = 0.0;
+    double y = solver.pickup();
+    const double start = threadCpuSeconds();
+    const long long progressEvery = 1 << 16;
+    for (long long n = 0; n < steps; ++n)
+    {
+        solver.step();
+        const double yNext = solver.pickup();
+        double sample = y;
+        if (quantity == PickupQuantity::velocity)
+            sample = n == 0 ? 0.0 : (yNext - yPrev) / (2.0 * dt);
+        sink(sample);
+        yPrev = y;
+        y = yNext;
+        const int it = solver.lastIterations();
+        stats.newtonIterationsTotal += it;
+        stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, it);
+        if (solver.contactCount() > 0)
+            stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, solver.lastMaxPenetration());
+        afterStep(n, it);
+        if (options.progress && (n % progressEvery) == 0 && !options.progress(double(n) / double(steps)))
+            throw std::runtime_error("render cancelled");
+    }
+    stats.cpuSeconds += threadCpuSeconds() - start;
+    stats.steps += steps;
+    if (options.progress)
+        options.progress(1.0);
+}
+
+}  // namespace
+
+std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options, RenderStats* statsOut)
+{
+    validateScene(scene);
+    auto setup = referenceSetup(scene, options.path);
+    ModalSolver solver(setup.config);
+    solver.setInitialDisplacement(setup.initial);
+    RenderStats stats;
+    stats.modes = solver.modeCount();
+    stats.internalRateHz = setup.rateHz;
+    stats.transformPath = solver.usesTransform();
+    std::vector<double> out;
+    out.reserve(static_cast<size_t>(steps));
+    run(solver, scene.pickup.quantity, steps, stats, options, [&](double v) { out.push_back(v); }, [](long long, int) {});
+    if (statsOut)
+        *statsOut = stats;
+    return out;
+}
+
+RenderResult renderScene(const Scene& scene, const RenderOptions& options)
+{
+    validateScene(scene);
+    auto setup = referenceSetup(scene, options.path);
+    ModalSolver solver(setup.config);
+    solver.setInitialDisplacement(setup.initial);
+
+    RenderResult result;
+    result.outputRateHz = scene.simulation.outputRateHz;
+    auto& stats = result.stats;
+    stats.modes = solver.modeCount();
+    stats.internalRateHz = setup.rateHz;
+    stats.transformPath = solver.usesTransform();
+
+    const double duration = scene.simulation.durationSeconds;
+    const long long steps = std::llround(duration * setup.rateHz);
+    const size_t outputCount = static_cast<size_t>(std::llround(duration * result.outputRateHz));
+    result.output.reserve(outputCount + 16);
+
+    Resampler resampler(setup.rateHz, result.outputRateHz);
+    std::vector<double> chunk;
+    chunk.reserve(4096);
+    auto sink = [&](double v) {
+        chunk.push_back(v);
+        if (chunk.size() == 4096)
+        {
+            resampler.push(chunk.data(), chunk.size(), result.output);
+            chunk.clear();
+        }
+    };
+
+    // Energy log: H^{n+1/2} after the step that produced internal sample n = round(m rate / outRate).
+    long nextLogged = 0;
+    long iterationsSince = 0;
+    int iterationsMaxSince = 0;
+    auto afterStep = [&](long long n, int iterations) {
+        if (!options.logEnergy)
+            return;
+        iterationsSince += iterations;
+        iterationsMaxSince = std::max(iterationsMaxSince, iterations);
+        if (static_cast<size_t>(nextLogged) >= outputCount)
+            return;
+        const long long target = std::llround(double(nextLogged) * setup.rateHz / result.outputRateHz);
+        if (n < target)
+            return;
+        const auto H = solver.energy();
+        result.energy.push_back({(double(n) + 0.5) / setup.rateHz, H.total, H.contact, iterationsSince, iterationsMaxSince});
+        iterationsSince = 0;
+        iterationsMaxSince = 0;
+        ++nextLogged;
+    };
+    if (options.logEnergy)
+        result.energy.reserve(outputCount);
+
+    run(solver, scene.pickup.quantity, steps, stats, options, sink, afterStep);
+    resampler.push(chunk.data(), chunk.size(), result.output);
+    resampler.finish(result.output);
+    result.output.resize(outputCount, 0.0);
+    for (double v : result.output)
+        if (!std::isfinite(v))
+            throw std::runtime_error("the simulation produced a non-finite sample");
+    return result;
+}
+
+}  // namespace jawari
