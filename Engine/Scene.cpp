@@ -356,7 +356,7 @@ Scene parseScene(const std::string& jsonText)
     {
         root = json::parse(jsonText);
     }
-    catch (const json::parse_error& e)
+    catch (const json::exception& e)  // parse errors, and numbers too large for a double
     {
         throw SceneError("(json)", std::string("malformed JSON: ") + e.what());
     }

@@ -1,0 +1,274 @@
+// jawari-render: renders a jawari-scene/1 file to a WAV (DESIGN.md section 7).
+//
+//   jawari-render SCENE.json -o OUT.wav [--method reference] [--modes M] [--rate HZ]
+//                 [--duration S] [--output-rate HZ] [--raw] [--energy FILE.csv] [--quiet]
+//
+// Exit status: 0 done, 2 bad scene or arguments (the message names the field), 1 anything else.
+// Files are written to a temporary beside the target and moved into place only when complete.
+
+#include "OfflineRender.h"
+#include "Scene.h"
+
+#include <juce_audio_formats/juce_audio_formats.h>
+#include <juce_core/juce_core.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <optional>
+#include <string>
+
+namespace
+{
+
+constexpr const char* usage = R"(jawari-render: render a jawari-scene/1 file to a WAV file.
+
+usage: jawari-render SCENE.json -o OUT.wav [options]
+
+  -o, --output FILE       the WAV file to write (required)
+  --method NAME           solver: reference (the paper's configuration)
+  --modes M               number of modes (reference: N - 1 = M grid nodes)
+  --rate HZ               internal simulation rate in Hz
+  --duration S            seconds to render
+  --output-rate HZ        sample rate of the WAV file
+  --raw                   write the pickup quantity in SI units (m, m/s or N) as 32-bit float,
+                          instead of 24-bit audio normalised to a -1 dBFS peak
+  --energy FILE.csv       log per output sample: time, energy H, contact energy, Newton iterations
+  --quiet                 no progress bar and no summary
+  -h, --help              this text
+
+Options override the scene's `simulation` fields. A bad scene or option exits with status 2 and a
+message naming the field; nothing is written then.
+)";
+
+struct UsageError : std::runtime_error
+{
+    using std::runtime_error::runtime_error;
+};
+
+// The value of an option given as `--name value` or `--name=value` (JUCE's ArgumentList tokenises).
+std::optional<juce::String> optionValue(juce::ArgumentList& args, juce::StringRef names)
+{
+    const int index = args.indexOfOption(names);
+    if (index < 0)
+        return std::nullopt;
+    const auto arg = args[index];
+    if (arg.isLongOption() && arg.text.contains("="))
+    {
+        args.arguments.remove(index);
+        return arg.getLongOptionValue();
+    }
+    if (index + 1 >= args.size())
+        throw UsageError(arg.text.toStdString() + ": needs a value");
+    const auto value = args[index + 1].text;
+    args.arguments.removeRange(index, 2);
+    return value;
+}
+
+double parseNumber(const juce::String& option, const juce::String& text)
+{
+    const std::string s = text.trim().toStdString();
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
+        throw UsageError(option.toStdString() + ": '" + s + "' is not a finite number");
+    return v;
+}
+
+long long parseWhole(const juce::String& option, const juce::String& text)
+{
+    const double v = parseNumber(option, text);
+    if (v != std::floor(v) || std::abs(v) > 1e15)
+        throw UsageError(option.toStdString() + ": '" + text.toStdString() + "' is not a whole number");
+    return static_cast<long long>(v);
+}
+
+void writeWav(const juce::File& target, const std::vector<double>& samples, int rate, bool raw, double& peakOut)
+{
+    double peak = 0.0;
+    for (double v : samples)
+        peak = std::max(peak, std::abs(v));
+    peakOut = peak;
+    const double gain = raw ? 1.0 : (peak > 0.0 ? std::pow(10.0, -1.0 / 20.0) / peak : 0.0);
+    juce::AudioBuffer<float> buffer(1, static_cast<int>(samples.size()));
+    for (size_t i = 0; i < samples.size(); ++i)
+        buffer.setSample(0, static_cast<int>(i), static_cast<float>(samples[i] * gain));
+
+    juce::TemporaryFile temp(target);
+    {
+        auto stream = std::make_unique<juce::FileOutputStream>(temp.getFile());
+        if (!stream->openedOk())
+            throw std::runtime_error("cannot write '" + temp.getFile().getFullPathName().toStdString() + "'");
+        juce::WavAudioFormat wav;
+        std::unique_ptr<juce::AudioFormatWriter> writer(
+            wav.createWriterFor(stream.get(), rate, 1, raw ? 32 : 24, {}, 0));
+        if (writer == nullptr)
+            throw std::runtime_error("cannot create a WAV writer at " + std::to_string(rate) + " Hz");
+        stream.release();  // the writer owns it now
+        if (!writer->writeFromAudioSampleBuffer(buffer, 0, buffer.getNumSamples()))
+            throw std::runtime_error("writing the WAV data failed");
+    }
+    if (!temp.overwriteTargetFileWithTemporary())
+        throw std::runtime_error("cannot move the finished WAV to '" + target.getFullPathName().toStdString() + "'");
+}
+
+void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySample>& energy)
+{
+    juce::TemporaryFile temp(target);
+    {
+        juce::FileOutputStream out(temp.getFile());
+        if (!out.openedOk())
+            throw std::runtime_error("cannot write '" + temp.getFile().getFullPathName().toStdString() + "'");
+        out << "time_s,energy_J,contact_energy_J,newton_iterations,newton_max_per_step\n";
+        char line[256];
+        for (const auto& e : energy)
+        {
+            std::snprintf(line, sizeof line, "%.9g,%.17g,%.17g,%ld,%d\n", e.timeSeconds, e.energy, e.contactEnergy,
+                          e.newtonIterations, e.newtonMaxPerStep);
+            out << line;
+        }
+        out.flush();
+        if (out.getStatus().failed())
+            throw std::runtime_error("writing the energy log failed: " + out.getStatus().getErrorMessage().toStdString());
+    }
+    if (!temp.overwriteTargetFileWithTemporary())
+        throw std::runtime_error("cannot move the finished energy log to '" + target.getFullPathName().toStdString() + "'");
+}
+
+int run(int argc, char* argv[])
+{
+    juce::ArgumentList args(argc, argv);
+    if (args.containsOption("--help|-h"))
+    {
+        std::cout << usage;
+        return 0;
+    }
+    const auto output = optionValue(args, "--output|-o");
+    const auto method = optionValue(args, "--method");
+    const auto modes = optionValue(args, "--modes");
+    const auto rate = optionValue(args, "--rate");
+    const auto duration = optionValue(args, "--duration");
+    const auto outputRate = optionValue(args, "--output-rate");
+    const auto energyPath = optionValue(args, "--energy");
+    const bool raw = args.removeOptionIfFound("--raw");
+    const bool quiet = args.removeOptionIfFound("--quiet");
+
+    juce::StringArray positional;
+    for (const auto& a : args.arguments)
+    {
+        if (a.isOption())
+            throw UsageError("unknown option '" + a.text.toStdString() + "' (see --help)");
+        positional.add(a.text);
+    }
+    if (positional.size() != 1)
+        throw UsageError(positional.isEmpty() ? "no scene file given (see --help)" : "give exactly one scene file");
+    if (!output)
+        throw UsageError("no output file: give -o OUT.wav");
+
+    auto scene = jawari::loadSceneFile(juce::File::getCurrentWorkingDirectory().getChildFile(positional[0]).getFullPathName().toStdString());
+    if (method)
+    {
+        const auto m = jawari::methodFromName(method->toStdString());
+        if (!m)
+            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference)");
+        scene.simulation.method = *m;
+    }
+    if (modes)
+    {
+        const auto m = parseWhole("--modes", *modes);
+        if (m < 1 || m > jawari::kMaxModes)
+            throw UsageError("--modes: must be between 1 and " + std::to_string(jawari::kMaxModes));
+        scene.simulation.modes = static_cast<int>(m);
+    }
+    if (rate)
+        scene.simulation.rateHz = parseNumber("--rate", *rate);
+    if (duration)
+        scene.simulation.durationSeconds = parseNumber("--duration", *duration);
+    if (outputRate)
+    {
+        const auto r = parseWhole("--output-rate", *outputRate);
+        if (r < 8000 || r > 384000)
+            throw UsageError("--output-rate: must be between 8000 and 384000 Hz");
+        scene.simulation.outputRateHz = static_cast<int>(r);
+    }
+    jawari::validateScene(scene);
+
+    const auto cwd = juce::File::getCurrentWorkingDirectory();
+    const juce::File wavFile = cwd.getChildFile(*output);
+    if (!wavFile.getParentDirectory().isDirectory())
+        throw UsageError("-o: the folder '" + wavFile.getParentDirectory().getFullPathName().toStdString() + "' does not exist");
+    std::optional<juce::File> energyFile;
+    if (energyPath)
+    {
+        energyFile = cwd.getChildFile(*energyPath);
+        if (!energyFile->getParentDirectory().isDirectory())
+            throw UsageError("--energy: the folder '" + energyFile->getParentDirectory().getFullPathName().toStdString() + "' does not exist");
+    }
+
+    jawari::RenderOptions options;
+    options.logEnergy = energyFile.has_value();
+    const bool bar = !quiet && isatty(STDERR_FILENO);
+    if (bar)
+        options.progress = [](double fraction) {
+            const int width = 40;
+            const int filled = static_cast<int>(fraction * width);
+            std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(size_t(filled), '#').c_str(),
+                         std::string(size_t(width - filled), '.').c_str(), static_cast<int>(fraction * 100.0));
+            std::fflush(stderr);
+            return true;
+        };
+    const auto result = jawari::renderScene(scene, options);
+    if (bar)
+        std::fprintf(stderr, "\n");
+
+    double peak = 0.0;
+    writeWav(wavFile, result.output, result.outputRateHz, raw, peak);
+    if (energyFile)
+        writeEnergy(*energyFile, result.energy);
+
+    if (!quiet)
+    {
+        const auto& st = result.stats;
+        std::printf("wrote %s: %zu samples at %d Hz (%s), peak %.6g %s%s\n", wavFile.getFullPathName().toRawUTF8(),
+                    result.output.size(), result.outputRateHz, raw ? "32-bit float, SI units" : "24-bit, -1 dBFS peak",
+                    peak, jawari::quantityUnit(scene.pickup.quantity),
+                    (" " + std::string(jawari::quantityName(scene.pickup.quantity))).c_str());
+        std::printf("%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
+                    "max penetration %.3g m\n",
+                    jawari::methodName(scene.simulation.method), st.modes, st.internalRateHz,
+                    st.transformPath ? "DST-I" : "projection", st.steps, st.cpuSeconds,
+                    scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9), st.newtonIterationsMax,
+                    st.maxPenetrationMetres);
+        if (energyFile)
+            std::printf("energy log: %s (%zu rows)\n", energyFile->getFullPathName().toRawUTF8(), result.energy.size());
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[])
+{
+    try
+    {
+        return run(argc, argv);
+    }
+    catch (const UsageError& e)
+    {
+        std::cerr << "jawari-render: error: " << e.what() << "\n";
+        return 2;
+    }
+    catch (const jawari::SceneError& e)
+    {
+        std::cerr << "jawari-render: error in scene: " << e.what() << "\n";
+        return 2;
+    }
+    catch (const std::exception& e)
+    {
+        std::cerr << "jawari-render: failed: " << e.what() << "\n";
+        return 1;
+    }
+}

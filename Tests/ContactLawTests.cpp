@@ -1,0 +1,119 @@
+// The regularised contact law, its discrete gradient and the safeguarded Newton (DESIGN.md section 2).
+
+#include "ContactLaw.h"
+#include "ContactSystem.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace jawari;
+
+TEST_CASE("the chord slope times r is the exact difference of potentials")
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    double worst = 0.0;
+    for (double alpha : {1.0, 1.3, 2.0, 3.0, 4.0})
+        for (int i = 0; i < 20000; ++i)
+        {
+            const ContactLaw law{1e13, alpha};
+            const double s = 1e-6 * unit(rng);
+            const double r = 1e-6 * unit(rng) * std::pow(10.0, -8.0 * std::abs(unit(rng)));
+            const double dpsi = contactPotential(law, s - r) - contactPotential(law, s);
+            const double Gr = chordSlope(law, s, r).value * r;
+            const double scale = contactPotential(law, std::abs(s)) + contactPotential(law, std::abs(s - r)) + 1e-300;
+            worst = std::max(worst, std::abs(Gr - dpsi) / scale);
+        }
+    INFO("worst relative mismatch " << worst);
+    CHECK(worst < 1e-12);
+}
+
+TEST_CASE("the chord slope is nondecreasing and its derivative matches finite differences")
+{
+    const ContactLaw law{1e10, 1.5};
+    const double s = 2e-6;
+    double previous = -1e300;
+    for (int i = -400; i <= 400; ++i)
+    {
+        const double r = i * 1e-8;
+        const auto G = chordSlope(law, s, r);
+        CHECK(G.value >= previous);
+        CHECK(G.value <= 0.0);
+        previous = G.value;
+        const double h = 1e-12;
+        const double fd = (chordSlope(law, s, r + h).value - chordSlope(law, s, r - h).value) / (2 * h);
+        CHECK(G.derivative == Approx(fd).epsilon(1e-3).margin(1e-6 * std::abs(G.value) / s));
+    }
+}
+
+TEST_CASE("the safeguarded Newton converges for K from 1e4 to 1e16 and alpha from 1 to 4")
+{
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    int most = 0;
+    double worstResidual = 0.0;
+    long solves = 0;
+    for (double logK = 4.0; logK <= 16.0; logK += 1.0)
+        for (double alpha : {1.0, 1.3, 1.5, 2.0, 3.0, 4.0})
+            for (int i = 0; i < 400; ++i)
+            {
+                const ContactLaw law{std::pow(10.0, logK), alpha};
+                const double k = std::pow(10.0, -12.0 + 4.0 * unit(rng));  // dt^2/mu from ~2 MHz to ~20 kHz
+                const double s = 1e-3 * unit(rng) * std::pow(10.0, -4.0 * std::abs(unit(rng)));
+                const double b = 1e-3 * unit(rng) * std::pow(10.0, -4.0 * std::abs(unit(rng)));
+                const auto sol = solveScalarContact(law, s, b, k);
+                REQUIRE(std::isfinite(sol.r));
+                // Converged: a residual at rounding level, or (where phi is very steep) the root
+                // bracketed within a few ulps of r: phi changes sign across [r - d, r + d].
+                auto phi = [&](double r) { return r + k * chordSlope(law, s, r).value - b; };
+                const double scale = std::abs(sol.r) + std::abs(b) + std::abs(k * sol.slope);
+                const double d = 8.0 * std::numeric_limits<double>::epsilon() * (std::abs(sol.r) + std::abs(b));
+                const bool bracketed = phi(sol.r - d) <= 0.0 && phi(sol.r + d) >= 0.0;
+                const double residual = bracketed ? 0.0 : std::abs(phi(sol.r)) / scale;
+                worstResidual = std::max(worstResidual, residual);
+                most = std::max(most, sol.iterations);
+                ++solves;
+            }
+    INFO(solves << " solves, most iterations " << most << ", worst relative residual " << worstResidual);
+    CHECK(worstResidual < 1e-13);
+    CHECK(most < 200);
+}
+
+TEST_CASE("the coupled P x P contact solve converges on a dense coupling")
+{
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const int P = 6;
+    int most = 0;
+    for (int trial = 0; trial < 200; ++trial)
+    {
+        // A = k Phi Phi^T W from random mode shapes: symmetric positive semidefinite times diagonal.
+        Eigen::MatrixXd Phi = Eigen::MatrixXd::Random(P, 40);
+        Eigen::VectorXd w = (Eigen::VectorXd::Random(P).array() + 1.5) * 1e-3;
+        const double k = std::pow(10.0, -11.0 + 2.0 * unit(rng));
+        Eigen::MatrixXd A = k * Phi * Phi.transpose() * w.asDiagonal();
+        std::vector<ContactPoint> points(P);
+        for (auto& p : points)
+            p.law = {std::pow(10.0, 8.0 + 6.0 * std::abs(unit(rng))), 1.0 + 2.0 * std::abs(unit(rng))};
+        ContactSystem system;
+        system.prepare(points, A);
+        REQUIRE_FALSE(system.isDiagonal());
+        std::vector<double> s(P), b(P), r(P), G(P);
+        for (int j = 0; j < P; ++j)
+        {
+            s[j] = 1e-5 * unit(rng);
+            b[j] = 1e-5 * unit(rng);
+        }
+        most = std::max(most, system.solve(s.data(), b.data(), r.data(), G.data()));
+        Eigen::VectorXd Gv = Eigen::Map<Eigen::VectorXd>(G.data(), P);
+        Eigen::VectorXd residual = Eigen::Map<Eigen::VectorXd>(r.data(), P) + A * Gv - Eigen::Map<Eigen::VectorXd>(b.data(), P);
+        const double scale = Eigen::Map<Eigen::VectorXd>(b.data(), P).lpNorm<Eigen::Infinity>() + (A * Gv).lpNorm<Eigen::Infinity>();
+        INFO("trial " << trial);
+        CHECK(residual.lpNorm<Eigen::Infinity>() <= 1e-12 * scale);
+    }
+    INFO("most Newton iterations " << most);
+    CHECK(most <= 100);
+}

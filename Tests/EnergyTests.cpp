@@ -1,0 +1,124 @@
+// The discrete energy H^{n+1/2} of DESIGN.md section 2 (paper eq. 8): conserved without losses to
+// the solver's tolerance, and dissipated exactly as the balance says with them.
+
+#include "ModalSolver.h"
+#include "TestSupport.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jawari;
+
+namespace
+{
+struct Drift
+{
+    double worst = 0.0;
+    double largestContactEnergy = 0.0;
+    long contactSteps = 0;
+};
+
+Drift losslessDrift(ModalSolver& solver, long steps)
+{
+    Drift d;
+    const double H0 = solver.energy().total;
+    for (long n = 0; n < steps; ++n)
+    {
+        solver.step();
+        if (solver.lastMaxPenetration() > 0.0)
+            ++d.contactSteps;
+        if (n % 97 == 0 || n == steps - 1)
+        {
+            const auto H = solver.energy();
+            d.worst = std::max(d.worst, std::abs(H.total - H0) / H0);
+            d.largestContactEnergy = std::max(d.largestContactEnergy, H.contact);
+        }
+    }
+    return d;
+}
+}  // namespace
+
+TEST_CASE("lossless contact with a point obstacle conserves energy to 1e-9 over 1e5 steps")
+{
+    const auto s = test::paperString(DampingLaw::none);
+    auto config = test::gridConfig(s, 1001, 2e6, {test::pointObstacle(0.501)});
+    ModalSolver solver(config);
+    solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, 1001, 0.501, 1.5e-3));
+    const auto d = losslessDrift(solver, 100000);
+    INFO("relative drift " << d.worst << ", contact steps " << d.contactSteps << ", peak contact energy " << d.largestContactEnergy);
+    CHECK(d.contactSteps > 10000);
+    CHECK(d.largestContactEnergy > 0.0);
+    CHECK(d.worst < 1e-9);
+}
+
+TEST_CASE("lossless contact with a distributed bridge (DST path) conserves energy to 1e-9 over 1e5 steps")
+{
+    const auto s = test::paperString(DampingLaw::none);
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = 0.004;
+    bridge.width = 0.008;
+    bridge.height = 1e-5;  // pushes 10 um into the string at its apex
+    bridge.curvature = 2.0;
+    bridge.law = {1e13, 1.3};
+    const int M = 400;
+    auto config = test::gridConfig(s, M, 1e6, {bridge}, ContactPath::transform);
+    ModalSolver solver(config);
+    REQUIRE(solver.usesTransform());
+    REQUIRE(solver.contactCount() == 3);
+    solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.3, 1e-3));
+    const auto d = losslessDrift(solver, 100000);
+    INFO("relative drift " << d.worst << ", contact steps " << d.contactSteps);
+    CHECK(d.contactSteps > 1000);
+    CHECK(d.worst < 1e-9);
+}
+
+TEST_CASE("lossless contact with coupled off-grid points (P x P Newton) conserves energy to 1e-9")
+{
+    const auto s = test::paperString(DampingLaw::none);
+    const int M = 120;
+    ModalSolverConfig config = test::gridConfig(s, M, 4.8e5, {});
+    // Off the grid and close together, so Phi Phi^T W is dense: the coupled Newton does the work.
+    for (double x : {0.1003, 0.1041, 0.1079})
+        config.contacts.push_back({x, 2e-3, -2e-5, {1e11, 1.5}, -1});
+    ModalSolver solver(config);
+    REQUIRE_FALSE(solver.usesTransform());
+    solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.2, 1.5e-3));
+    const auto d = losslessDrift(solver, 100000);
+    INFO("relative drift " << d.worst << ", contact steps " << d.contactSteps);
+    CHECK(d.contactSteps > 1000);
+    CHECK(d.worst < 1e-9);
+}
+
+TEST_CASE("with losses the energy never increases and the balance holds step by step")
+{
+    const auto s = test::paperString(DampingLaw::valette);
+    const int M = 1001;
+    auto config = test::gridConfig(s, M, 2e6, {test::pointObstacle(0.006)});
+    ModalSolver solver(config);
+    solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.501, 1.5e-3));
+    const double H0 = solver.energy().total;
+    double previousH = H0;
+    double worstIncrease = 0.0, worstBalance = 0.0;
+    long contactSteps = 0;
+    for (int n = 0; n < 20000; ++n)
+    {
+        const auto qPrev = solver.modalState(true);
+        const double Hbefore = solver.energy().total;
+        solver.step();
+        if (solver.lastMaxPenetration() > 0.0)
+            ++contactSteps;
+        const auto qNext = solver.modalState(false);
+        const double H = solver.energy().total;
+        worstIncrease = std::max(worstIncrease, (H - previousH) / H0);
+        const double loss = solver.stepLoss(qNext.data(), qPrev.data());
+        worstBalance = std::max(worstBalance, std::abs(H - Hbefore + loss) / H0);
+        previousH = H;
+    }
+    INFO("largest step increase " << worstIncrease << ", worst balance error " << worstBalance << ", contact steps " << contactSteps);
+    CHECK(contactSteps > 1000);
+    CHECK(worstIncrease <= 1e-13);
+    CHECK(worstBalance < 1e-11);
+    CHECK(previousH < 0.99 * H0);
+}

@@ -1,0 +1,104 @@
+// The string's modal table and the exact per-mode update (DESIGN.md sections 1 and 2).
+
+#include "ExactOscillator.h"
+#include "ModalSolver.h"
+#include "StringModel.h"
+#include "TestSupport.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+using namespace jawari;
+
+TEST_CASE("modal frequencies follow f_p = p f0 sqrt(1 + B p^2) and measured modes override them")
+{
+    auto s = test::paperString();
+    s.modeOverrides.push_back({1, 195.7, 0.9});
+    s.modeOverrides.push_back({3, std::nullopt, 2.5});
+    const auto t = buildModalTable(s, 1001);
+    const double f0 = std::sqrt(180.5 / 1.17e-3) / (2.0 * 1.002);
+    CHECK(s.flexibleFundamentalHz() == Approx(f0).epsilon(1e-15));
+    CHECK(t.frequencyHz[0] == 195.7);
+    CHECK(t.sigma[0] == 0.9);
+    CHECK(t.frequencyHz[1] == Approx(2.0 * f0 * std::sqrt(1.0 + 1.78e-5 * 4.0)).epsilon(1e-14));
+    CHECK(t.frequencyHz[1000] == Approx(1001.0 * f0 * std::sqrt(1.0 + 1.78e-5 * 1001.0 * 1001.0)).epsilon(1e-14));
+    CHECK(t.sigma[2] == 2.5);
+    CHECK(t.frequencyHz[2] == Approx(3.0 * f0 * std::sqrt(1.0 + 1.78e-5 * 9.0)).epsilon(1e-14));
+}
+
+TEST_CASE("Valette's damping law gives the paper's quality factors")
+{
+    const auto s = test::paperString();
+    constexpr double pi = std::numbers::pi;
+    const double f = 1000.0;
+    const double EI = 1.78e-5 * 180.5 * 1.002 * 1.002 / (pi * pi);
+    const double R = 2 * pi * 1.8e-5 + 2 * pi * 0.43e-3 * std::sqrt(pi * 1.8e-5 * 1.2 * f);
+    const double expected = R / (2 * pi * 1.17e-3 * f) + 4 * pi * pi * 1.17e-3 * EI * 0.006 * f * f / (180.5 * 180.5) + 1.38e-4;
+    CHECK(valetteInverseQ(s, f) == Approx(expected).epsilon(1e-14));
+    const auto t = buildModalTable(s, 20);
+    CHECK(t.sigma[4] == Approx(pi * t.frequencyHz[4] * valetteInverseQ(s, t.frequencyHz[4])).epsilon(1e-14));
+    // The top modes of the paper's grid are close to critically damped: both branches are used.
+    const auto top = buildModalTable(s, 1001);
+    CHECK(top.sigma[1000] > 0.5 * top.omega[1000]);
+}
+
+TEST_CASE("the multiplied-out update is the paper's scheme (eq. 5) and its energy coefficients")
+{
+    // Paper: alpha_i = 2/(w dt)^2 - A/(1+e-A), sigma* = (1/dt + w^2 dt/2 (1 - alpha)) (1-e)/(1+e),
+    // C1 = c/D, C2 = w^2/D, C3 = 2 sigma*/D with c = 1 + (1-alpha) w^2 dt^2/2, D = c + sigma* dt.
+    for (double sigma : {0.0, 3.0, 800.0})
+        for (double dt : {1.0 / 48000.0, 1.0 / 2e6})
+        {
+            const double w = 2 * std::numbers::pi * 1500.0;
+            const auto c = exactCoefficients(w, sigma, dt);
+            const double A = c.a, e = c.e;
+            const double alpha = 2.0 / (w * w * dt * dt) - A / (1.0 + e - A);
+            const double cc = 1.0 + (1.0 - alpha) * w * w * dt * dt / 2.0;
+            const double sigmaStar = (1.0 / dt + w * w * dt / 2.0 - alpha * w * w * dt / 2.0) * (1.0 - e) / (1.0 + e);
+            const double D = cc + sigmaStar * dt;
+            INFO("sigma " << sigma << " dt " << dt);
+            CHECK(c.kineticWeight == Approx(cc / D).epsilon(1e-6));
+            CHECK(c.potentialWeight == Approx(w * w / D).epsilon(1e-6));
+            CHECK(c.lossWeight == Approx(dt * 2.0 * sigmaStar / D).epsilon(1e-6).margin(1e-300));
+            // The update (C1 dtt + C2 + C3 dt.) q = 0 multiplied out: a = (2c - w^2 dt^2)/D, e = (c - s* dt)/D.
+            CHECK(A == Approx((2 * cc - w * w * dt * dt) / D).epsilon(1e-6));
+            CHECK(e == Approx((cc - sigmaStar * dt) / D).epsilon(1e-6));
+        }
+}
+
+TEST_CASE("without contact every mode follows the analytic damped solution to 1e-9 at any dt")
+{
+    // The paper's string with its damping law (the top modes near critical damping) plus a constant
+    // law strong enough to overdamp the first modes.
+    for (auto law : {DampingLaw::valette, DampingLaw::constant, DampingLaw::none})
+        for (double rate : {44100.0, 48000.0 * 4, 1e6, 2e6})
+        {
+            auto s = test::paperString(law);
+            s.damping.sigma = 3000.0;  // overdamps modes below ~480 Hz in the constant law
+            const int M = 300;
+            auto config = test::gridConfig(s, M, rate, {});
+            ModalSolver solver(config);
+            const auto q0 = pluckModalShape(s.lengthMetres, M, 0.3, 1e-3);
+            solver.setInitialDisplacement(q0);
+            const int steps = 20000;
+            for (int n = 0; n < steps; ++n)
+                solver.step();
+            const auto q = solver.modalState();
+            // Each mode to 1e-9 of its own amplitude; modes below 1e-9 of the largest (like mode 167
+            // here, whose sine vanishes at x = 0.3: 5e-20 of the largest, and skipped by the solver as
+            // rounding) to 1e-9 of that floor, i.e. 1e-18 of the largest mode.
+            double largest = 0.0;
+            for (double v : q0)
+                largest = std::max(largest, std::abs(v));
+            double worst = 0.0;
+            for (int p = 0; p < M; ++p)
+            {
+                const double exact = freeDampedMotion(q0[p], 0.0, config.modes.omega[p], config.modes.sigma[p], steps / rate);
+                worst = std::max(worst, std::abs(q[p] - exact) / std::max(std::abs(q0[p]), 1e-9 * largest));
+            }
+            INFO("law " << int(law) << " rate " << rate << " worst relative error " << worst);
+            CHECK(worst < 1e-9);
+        }
+}

@@ -1,0 +1,95 @@
+// The reference solver's two contact paths (DESIGN.md section 2): projection (few points) and
+// DST-I (many points) must agree to rounding on the grid.
+
+#include "ModalSolver.h"
+#include "OfflineRender.h"
+#include "TestSupport.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jawari;
+
+namespace
+{
+struct Comparison
+{
+    double worst = 0.0;
+    double peak = 0.0;
+    long contactSteps = 0;
+};
+
+Comparison compare(ModalSolverConfig a, ModalSolverConfig b, const std::vector<double>& q0, long steps)
+{
+    ModalSolver first(a), second(b);
+    first.setInitialDisplacement(q0);
+    second.setInitialDisplacement(q0);
+    Comparison c;
+    for (long n = 0; n < steps; ++n)
+    {
+        first.step();
+        second.step();
+        if (first.lastMaxPenetration() > 0.0)
+            ++c.contactSteps;
+        c.peak = std::max(c.peak, std::abs(first.pickup()));
+        c.worst = std::max(c.worst, std::abs(first.pickup() - second.pickup()));
+    }
+    return c;
+}
+}  // namespace
+
+TEST_CASE("a point obstacle on the grid: projection and DST paths agree to rounding")
+{
+    const auto s = test::paperString();
+    const int M = 1001;
+    const std::vector<Obstacle> obstacles{test::pointObstacle(0.501)};
+    const auto q0 = pluckModalShape(s.lengthMetres, M, 0.501, 1.5e-3);
+    const auto c = compare(test::gridConfig(s, M, 2e6, obstacles, ContactPath::projection),
+                           test::gridConfig(s, M, 2e6, obstacles, ContactPath::transform), q0, 40000);
+    INFO("max |difference| / peak = " << c.worst / c.peak << " over " << c.contactSteps << " contact steps");
+    CHECK(c.contactSteps > 5000);
+    CHECK(c.worst / c.peak < 1e-10);
+}
+
+TEST_CASE("a sampled profile: the projection's decoupled solves and the DST path agree to rounding")
+{
+    const auto s = test::paperString();
+    const int M = 1001;
+    Obstacle profile;
+    profile.type = ObstacleType::profile;
+    profile.profileX = {0.0, 0.004, 0.008, 0.012};
+    profile.profileHeight = {-3e-5, 0.0, -1e-5, -4e-5};
+    profile.law = {1e13, 1.3};
+    const std::vector<Obstacle> obstacles{profile};
+    const auto q0 = pluckModalShape(s.lengthMetres, M, 0.501, 1.5e-3);
+    auto projection = test::gridConfig(s, M, 2e6, obstacles, ContactPath::projection);
+    REQUIRE(projection.contacts.size() == 12);  // the interior nodes at 1..12 mm
+    const auto c = compare(projection, test::gridConfig(s, M, 2e6, obstacles, ContactPath::transform), q0, 40000);
+    INFO("max |difference| / peak = " << c.worst / c.peak << " over " << c.contactSteps << " contact steps");
+    CHECK(c.contactSteps > 1000);
+    CHECK(c.worst / c.peak < 1e-10);
+}
+
+TEST_CASE("the render pipeline gives the same output through either path")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    scene.simulation.durationSeconds = 0.03;
+    RenderOptions projection, transform;
+    projection.path = ContactPath::projection;
+    transform.path = ContactPath::transform;
+    const auto a = renderScene(scene, projection);
+    const auto b = renderScene(scene, transform);
+    REQUIRE(a.output.size() == 1440);
+    REQUIRE(b.output.size() == 1440);
+    CHECK_FALSE(a.stats.transformPath);
+    CHECK(b.stats.transformPath);
+    double worst = 0.0, peak = 0.0;
+    for (size_t i = 0; i < a.output.size(); ++i)
+    {
+        worst = std::max(worst, std::abs(a.output[i] - b.output[i]));
+        peak = std::max(peak, std::abs(a.output[i]));
+    }
+    INFO("max |difference| / peak = " << worst / peak);
+    CHECK(worst / peak < 1e-10);
+}

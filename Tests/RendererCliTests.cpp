@@ -1,0 +1,127 @@
+// jawari-render end to end: good scenes write complete files, bad ones exit with status 2, name the
+// field and leave nothing behind.
+
+#include "TestSupport.h"
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace
+{
+struct Outcome
+{
+    int status = -1;
+    std::string output;
+};
+
+Outcome render(const std::string& arguments)
+{
+    const std::string command = std::string(JAWARI_RENDER_PATH) + " " + arguments + " 2>&1";
+    Outcome o;
+    FILE* pipe = popen(command.c_str(), "r");
+    REQUIRE(pipe != nullptr);
+    char buffer[512];
+    while (std::fgets(buffer, sizeof buffer, pipe) != nullptr)
+        o.output += buffer;
+    const int raw = pclose(pipe);
+    o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return o;
+}
+
+fs::path scratch()
+{
+    auto dir = fs::temp_directory_path() / ("jawari-cli-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string write(const fs::path& path, const std::string& text)
+{
+    std::ofstream(path) << text;
+    return path.string();
+}
+}  // namespace
+
+TEST_CASE("jawari-render writes a WAV and an energy log for a good scene")
+{
+    const auto dir = scratch();
+    const auto wav = dir / "centre.wav";
+    const auto csv = dir / "centre.csv";
+    const auto o = render(jawari::test::resource("Scenes/paper-centre.json") + " -o " + wav.string() +
+                          " --duration 0.02 --rate 1e6 --modes 400 --raw --energy " + csv.string());
+    INFO(o.output);
+    REQUIRE(o.status == 0);
+    REQUIRE(fs::exists(wav));
+    // RIFF/WAVE, 32-bit float, 960 samples of data.
+    CHECK(fs::file_size(wav) >= 44 + 960 * 4);
+    std::ifstream in(wav, std::ios::binary);
+    char riff[4];
+    in.read(riff, 4);
+    CHECK(std::string(riff, 4) == "RIFF");
+    std::ifstream log(csv);
+    std::string line;
+    int rows = -1;
+    while (std::getline(log, line))
+        ++rows;
+    CHECK(rows == 960);
+    CHECK_THAT(o.output, Catch::Matchers::Contains("400 modes"));
+}
+
+TEST_CASE("jawari-render rejects bad scenes and options with status 2 and writes nothing")
+{
+    const auto dir = scratch();
+    const auto wav = dir / "never.wav";
+    struct Case
+    {
+        std::string scene, extra, expected;
+    };
+    const std::vector<Case> cases = {
+        {R"({"format": "jawari-scene/1", "string": {"length": -1}})", "", "string.length"},
+        {R"({"format": "jawari-scene/1", "obstacles": [{"position": 2}]})", "", "obstacles[0].position"},
+        {R"({"format": "jawari-scene/1", "pickup": {"position": 0}})", "", "pickup.position"},
+        {R"({"format": "jawari-scene/1", "excitation": {"position": 5}})", "", "excitation.position"},
+        {R"({"format": "jawari-scene/1", "simulation": {"bogus": 1}})", "", "simulation.bogus"},
+        {R"({"format": "jawari-scene/1", )", "", "malformed JSON"},
+        {R"({"format": "jawari-scene/1"})", "--rate abc", "--rate"},
+        {R"({"format": "jawari-scene/1"})", "--duration -2", "simulation.duration"},
+        {R"({"format": "jawari-scene/1"})", "--method magic", "--method"},
+        {R"({"format": "jawari-scene/1"})", "--frobnicate", "unknown option"},
+    };
+    int i = 0;
+    for (const auto& c : cases)
+    {
+        const auto scene = write(dir / ("bad" + std::to_string(i++) + ".json"), c.scene);
+        const auto o = render(scene + " -o " + wav.string() + " " + c.extra);
+        INFO(c.scene << " " << c.extra << "\n" << o.output);
+        CHECK(o.status == 2);
+        CHECK_THAT(o.output, Catch::Matchers::Contains(c.expected));
+        CHECK_FALSE(fs::exists(wav));
+    }
+    const auto missing = render((dir / "does-not-exist.json").string() + " -o " + wav.string());
+    CHECK(missing.status == 2);
+    CHECK_FALSE(fs::exists(wav));
+    const auto none = render("-o " + wav.string());
+    CHECK(none.status == 2);
+}
+
+TEST_CASE("a bad render leaves an existing output file untouched")
+{
+    const auto dir = scratch();
+    const auto wav = dir / "keep.wav";
+    write(wav, "previous contents");
+    const auto scene = write(dir / "bad.json", R"({"format": "jawari-scene/1", "obstacles": [{"stiffness": 0}]})");
+    const auto o = render(scene + " -o " + wav.string());
+    CHECK(o.status == 2);
+    std::ifstream in(wav);
+    std::string text;
+    std::getline(in, text);
+    CHECK(text == "previous contents");
+}

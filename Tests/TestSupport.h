@@ -1,0 +1,55 @@
+#pragma once
+// Small helpers shared by the tests.
+
+#include "ModalSolver.h"
+#include "Scene.h"
+
+#include <string>
+#include <vector>
+
+namespace jawari::test
+{
+
+inline std::string resource(const std::string& name)
+{
+    return std::string(JAWARI_RESOURCES_DIR) + "/" + name;
+}
+
+// The paper's string (DESIGN.md section 3) with a chosen damping law.
+inline StringParameters paperString(DampingLaw law = DampingLaw::valette)
+{
+    StringParameters s;
+    s.damping.law = law;
+    return s;
+}
+
+// A solver on the reference grid (M modes, N = M + 1) for a set of obstacles, pickup at 0.992.
+inline ModalSolverConfig gridConfig(const StringParameters& string, int M, double rateHz,
+                                    const std::vector<Obstacle>& obstacles, ContactPath path = ContactPath::automatic)
+{
+    ModalSolverConfig c;
+    c.lengthMetres = string.lengthMetres;
+    c.linearDensity = string.linearDensity;
+    c.timeStep = 1.0 / rateHz;
+    c.modes = buildModalTable(string, M);
+    c.contacts = contactPointsOnGrid(obstacles, string.lengthMetres, M + 1);
+    c.path = path;
+    c.pickupWeights.resize(M);
+    for (int p = 1; p <= M; ++p)
+        c.pickupWeights[p - 1] = modeShape(string.lengthMetres, p, 0.992);
+    return c;
+}
+
+inline Obstacle pointObstacle(double position, double height = 0.0, double width = 1e-3, double K = 1e13,
+                              double alpha = 1.3)
+{
+    Obstacle o;
+    o.type = ObstacleType::point;
+    o.position = position;
+    o.height = height;
+    o.width = width;
+    o.law = {K, alpha};
+    return o;
+}
+
+}  // namespace jawari::test
