@@ -121,6 +121,9 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         if (phi == 0.0 || std::abs(phi) <= 2.0 * eps * scale || hi - lo <= 2.0 * eps * scale
             || std::abs(previousStep) <= eps * scale)
             break;
+        // The next Newton step would move r by less than rounding (stiff contact: phi' >> 1).
+        if (std::abs(phi) <= 2.0 * eps * (std::abs(r) + std::abs(b)) * (1.0 + k * G.derivative))
+            break;
     }
     sol.r = r;
     sol.slope = G.value;

@@ -30,12 +30,15 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     J_.setZero(P, P);
     lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(P);
     previousR_.assign(points_.size(), 0.0);
+    olderR_.assign(points_.size(), 0.0);
     previousContact_.assign(points_.size(), 0);
+    olderContact_.assign(points_.size(), 0);
 }
 
 void ContactSystem::reset()
 {
     std::fill(previousContact_.begin(), previousContact_.end(), 0);
+    std::fill(olderContact_.begin(), olderContact_.end(), 0);
 }
 
 double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
@@ -77,10 +80,15 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
         int most = 0;
         for (Eigen::Index j = 0; j < P; ++j)
         {
+            double guess = previousR_[j];
+            if (olderContact_[j])
+                guess = 2.0 * previousR_[j] - olderR_[j];
             const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j),
-                                                previousContact_[j] ? &previousR_[j] : nullptr);
+                                                previousContact_[j] ? &guess : nullptr);
             r[j] = sol.r;
             slope[j] = sol.slope;
+            olderR_[j] = previousR_[j];
+            olderContact_[j] = previousContact_[j];
             previousR_[j] = sol.r;
             previousContact_[j] = sol.slope != 0.0;
             most = std::max(most, sol.iterations);

@@ -70,41 +70,62 @@ inline void predict(const double* __restrict a, const double* __restrict e, cons
     contact = u;
 }
 
-// The same after applying last step's pending contact correction q += c phi (one point): the
-// correction rides along this pass instead of costing a pass of its own.
-inline void predictCorrected(const double* __restrict a, const double* __restrict e, double* __restrict current,
-                             double* __restrict previous, const double* __restrict h, const double* __restrict phi,
-                             double c, int M, double& pickup, double& contact)
+// Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
+// predictions with scalar contact corrections still to apply (DESIGN.md section 2, with
+// q^{n+1} = q~^{n+1} + c phi):
+//   q^{m-1} = X + c1 phi,   q^m = Y + (c1 a + c2) phi
+// and leaves as X = q~^{m+1} = a q^m - e q^{m-1}, Y = a X - e q^m (q~^{m+2} before step m+1's
+// correction, which the caller folds in as c1 a phi), settled = q^m, with h . and phi . of X and Y.
+// Per two steps: six loads and three stores per mode, against twelve and four for two single
+// steps; the state stays in registers between the steps. phi may be null (no contact point).
+inline void pairStep(const double* __restrict a, const double* __restrict e, double* __restrict X,
+                     double* __restrict Y, double* __restrict settled, const double* __restrict h,
+                     const double* __restrict phi, double c1, double c2, int M, double& pickup1, double& contact1,
+                     double& pickup2, double& contact2)
 {
-    alignas(64) double ph[kBlock] = {};
-    alignas(64) double pc[kBlock] = {};
+    alignas(64) double ph1[kBlock] = {}, pc1[kBlock] = {}, ph2[kBlock] = {}, pc2[kBlock] = {};
+    static constexpr double zeros[kBlock] = {};
     int p = 0;
     for (; p + kBlock <= M; p += kBlock)
     {
-#pragma omp simd aligned(ph, pc : 64)
+        const double* __restrict ph = phi != nullptr ? phi + p : zeros;
+#pragma omp simd aligned(ph1, pc1, ph2, pc2 : 64)
         for (int k = 0; k < kBlock; ++k)
         {
-            const double now = current[p + k] + c * phi[p + k];
-            current[p + k] = now;
-            const double next = a[p + k] * now - e[p + k] * previous[p + k];
-            previous[p + k] = next;
-            ph[k] += h[p + k] * next;
-            pc[k] += phi[p + k] * next;
+            const double ak = a[p + k];
+            const double before = X[p + k] + c1 * ph[k];
+            const double now = Y[p + k] + (c1 * ak + c2) * ph[k];
+            const double t1 = ak * now - e[p + k] * before;
+            const double t2 = ak * t1 - e[p + k] * now;
+            settled[p + k] = now;
+            X[p + k] = t1;
+            Y[p + k] = t2;
+            ph1[k] += h[p + k] * t1;
+            pc1[k] += ph[k] * t1;
+            ph2[k] += h[p + k] * t2;
+            pc2[k] += ph[k] * t2;
         }
     }
-    double y = horizontalSum(ph);
-    double u = horizontalSum(pc);
+    double y1 = horizontalSum(ph1), u1 = horizontalSum(pc1), y2 = horizontalSum(ph2), u2 = horizontalSum(pc2);
     for (; p < M; ++p)
     {
-        const double now = current[p] + c * phi[p];
-        current[p] = now;
-        const double next = a[p] * now - e[p] * previous[p];
-        previous[p] = next;
-        y += h[p] * next;
-        u += phi[p] * next;
+        const double ph = phi != nullptr ? phi[p] : 0.0;
+        const double before = X[p] + c1 * ph;
+        const double now = Y[p] + (c1 * a[p] + c2) * ph;
+        const double t1 = a[p] * now - e[p] * before;
+        const double t2 = a[p] * t1 - e[p] * now;
+        settled[p] = now;
+        X[p] = t1;
+        Y[p] = t2;
+        y1 += h[p] * t1;
+        u1 += ph * t1;
+        y2 += h[p] * t2;
+        u2 += ph * t2;
     }
-    pickup = y;
-    contact = u;
+    pickup1 = y1;
+    contact1 = u1;
+    pickup2 = y2;
+    contact2 = u2;
 }
 
 // x . y

@@ -6,6 +6,7 @@
 #include <fftw3.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -169,9 +170,27 @@ void ModalSolver::compact(const std::vector<double>& current, const std::vector<
         if (coupled_[p] || std::abs(current[p]) > stateFloor || std::abs(previous[p]) > stateFloor)
             active_.push_back(p);
     Ma_ = static_cast<int>(active_.size());
+    // Padding to whole blocks keeps the kernels off their scalar tail loops (a = e = h = phi = 0).
+    Mpad_ = (Ma_ + kernels::kBlock - 1) / kernels::kBlock * kernels::kBlock;
+    if (transform_)
+        Mpad_ = Ma_;  // the DST works on exactly M values
     activeCoeffs_.resize(Ma_);
-    for (auto* v : {&a_, &e_, &h_, &q_, &qPrev_})
-        v->resize(Ma_);
+    // stride_ * 8 bytes = 576 (mod 4096): consecutive arrays sit 9 cache lines apart modulo 4 KiB.
+    stride_ = (Mpad_ + 7) / 8 * 8;
+    while ((stride_ * 8) % 4096 != 576)
+        stride_ += 8;
+    const int arrays = 6 + (transform_ ? 0 : P_);
+    storage_.assign(static_cast<size_t>(stride_) * arrays + 8, 0.0);
+    double* base = storage_.data();
+    while (reinterpret_cast<std::uintptr_t>(base) % 64 != 0)
+        ++base;
+    double* next = base;
+    for (double** array : {&a_, &e_, &h_, &q_, &qPrev_, &settled_})
+    {
+        *array = next;
+        next += stride_;
+    }
+    phi_ = transform_ ? nullptr : next;
     for (int i = 0; i < Ma_; ++i)
     {
         const int p = active_[i];
@@ -184,11 +203,21 @@ void ModalSolver::compact(const std::vector<double>& current, const std::vector<
     }
     if (!transform_)
     {
-        phi_.resize(static_cast<size_t>(P_) * Ma_);
         for (int j = 0; j < P_; ++j)
             for (int i = 0; i < Ma_; ++i)
-                phi_[size_t(j) * Ma_ + i] = shapes_[size_t(j) * M_ + active_[i]];
+                phi_[size_t(j) * stride_ + i] = shapes_[size_t(j) * M_ + active_[i]];
     }
+    paired_ = !transform_ && P_ <= 1;
+    midPair_ = false;
+    c1_ = c2_ = 0.0;
+    sumPhiSquared_ = sumAPhiSquared_ = sumAPhiH_ = 0.0;
+    if (paired_ && P_ == 1)
+        for (int i = 0; i < Ma_; ++i)
+        {
+            sumPhiSquared_ += phi_[i] * phi_[i];
+            sumAPhiSquared_ += a_[i] * phi_[i] * phi_[i];
+            sumAPhiH_ += a_[i] * phi_[i] * h_[i];
+        }
 }
 
 void ModalSolver::setState(const std::vector<double>& current, const std::vector<double>& previous)
@@ -196,11 +225,10 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
     if (static_cast<int>(current.size()) != M_ || static_cast<int>(previous.size()) != M_)
         throw std::invalid_argument("modal state has the wrong number of modes");
     compact(current, previous);
-    pendingCorrection_ = 0.0;
     system_.reset();
-    projectActive(q_.data(), uC_.data());
-    projectActive(qPrev_.data(), uCPrev_.data());
-    pickup_ = kernels::dot(h_.data(), q_.data(), Ma_);
+    projectActive(q_, uC_.data());
+    projectActive(qPrev_, uCPrev_.data());
+    pickup_ = kernels::dot(h_, q_, Ma_);
 }
 
 void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplacement)
@@ -213,48 +241,76 @@ void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplac
     setState(modalDisplacement, previous);
 }
 
-void ModalSolver::predict()
-{
-    // q~ = a q - e q^{n-1}, written over q^{n-1}; the pickup (and, for one point, the contact
-    // displacement) of q~ in the same pass over the modes.
-    const bool onePoint = P_ == 1 && !transform_;
-    double contact = 0.0;
-    if (onePoint && pendingCorrection_ != 0.0)
-    {
-        kernels::predictCorrected(a_.data(), e_.data(), q_.data(), qPrev_.data(), h_.data(), phi_.data(),
-                                  pendingCorrection_, Ma_, pickupTilde_, contact);
-        pendingCorrection_ = 0.0;
-    }
-    else
-        kernels::predict(a_.data(), e_.data(), q_.data(), qPrev_.data(), h_.data(), onePoint ? phi_.data() : nullptr,
-                         Ma_, pickupTilde_, contact);
-    if (onePoint)
-        uTilde_[0] = contact;
-    else if (!transform_)
-        for (int j = 0; j < P_; ++j)
-            uTilde_[j] = kernels::dot(phi_.data() + size_t(j) * Ma_, qPrev_.data(), Ma_);
-}
-
-void ModalSolver::settle()
-{
-    if (pendingCorrection_ != 0.0)
-    {
-        kernels::axpy(pendingCorrection_, phi_.data(), q_.data(), Ma_);
-        pendingCorrection_ = 0.0;
-    }
-}
-
 void ModalSolver::step()
 {
-    predict();
+    if (paired_)
+        stepPaired();
+    else
+        stepSingle();
+}
+
+double ModalSolver::solveOnePoint(double uTilde)
+{
+    s_[0] = contacts_[0].height - uCPrev_[0];
+    b_[0] = uTilde - uCPrev_[0];
+    lastIterations_ = system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+    // u_C^{n+1} = u~ + A f with f = -G.
+    uCPrev_[0] = uC_[0];
+    uC_[0] = uTilde - system_.coupling()(0, 0) * slope_[0];
+    lastPenetration_ = contacts_[0].height - uC_[0];
+    return slope_[0];
+}
+
+void ModalSolver::stepPaired()
+{
+    lastIterations_ = 0;
+    lastPenetration_ = -std::numeric_limits<double>::infinity();
+    const double* phi = P_ == 1 ? phi_ : nullptr;
+    if (!midPair_)
+    {
+        double u1 = 0.0;
+        kernels::pairStep(a_, e_, qPrev_, q_, settled_, h_, phi, c1_, c2_,
+                          Mpad_, pickupTilde_, u1, pairPickup2_, pairContact2_);
+        double y = pickupTilde_;
+        c1_ = c2_ = 0.0;
+        if (P_ == 1)
+        {
+            const double G = solveOnePoint(u1);
+            c1_ = -forceScale_ * contacts_[0].weight * G;  // q^{n+1} = q~ + c1 phi
+            y -= pickupPhiW_[0] * G;
+        }
+        pickup_ = y;
+        midPair_ = true;
+        return;
+    }
+    // Second step of the pair: q~^{n+2} = Y + c1 a phi, so its projections gain c1 sum(a phi phi).
+    double y = pairPickup2_ + c1_ * sumAPhiH_;
+    if (P_ == 1)
+    {
+        const double G = solveOnePoint(pairContact2_ + c1_ * sumAPhiSquared_);
+        c2_ = -forceScale_ * contacts_[0].weight * G;
+        y -= pickupPhiW_[0] * G;
+    }
+    pickup_ = y;
+    midPair_ = false;
+}
+
+void ModalSolver::stepSingle()
+{
+    // q~ = a q - e q^{n-1}, written over q^{n-1}; its pickup and contact projections.
+    double unused = 0.0;
+    kernels::predict(a_, e_, q_, qPrev_, h_, nullptr, Mpad_, pickupTilde_, unused);
     if (transform_)
     {
         double* in = transform_->in;
-        std::copy(qPrev_.begin(), qPrev_.end(), in);
+        std::copy(qPrev_, qPrev_ + M_, in);
         fftw_execute(transform_->plan);
         for (int j = 0; j < P_; ++j)
             uTilde_[j] = transform_->scale * transform_->out[transform_->nodes[j] - 1];
     }
+    else
+        for (int j = 0; j < P_; ++j)
+            uTilde_[j] = kernels::dot(phi_ + size_t(j) * stride_, qPrev_, Mpad_);
 
     bool anyForce = false;
     lastIterations_ = 0;
@@ -274,7 +330,7 @@ void ModalSolver::step()
     if (anyForce)
     {
         // q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r).
-        double* next = qPrev_.data();
+        double* next = qPrev_;
         if (transform_)
         {
             double* in = transform_->in;
@@ -284,12 +340,10 @@ void ModalSolver::step()
             fftw_execute(transform_->plan);
             kernels::axpy(forceScale_ * transform_->scale, transform_->out, next, M_);
         }
-        else if (P_ == 1)
-            pendingCorrection_ = -forceScale_ * contacts_[0].weight * slope_[0];  // applied in the next pass
         else
             for (int j = 0; j < P_; ++j)
                 if (slope_[j] != 0.0)
-                    kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], phi_.data() + size_t(j) * Ma_, next, Ma_);
+                    kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], phi_ + size_t(j) * stride_, next, Mpad_);
         const auto& A = system_.coupling();
         for (int j = 0; j < P_; ++j)
         {
@@ -312,11 +366,39 @@ void ModalSolver::step()
     pickup_ = y;
 }
 
+void ModalSolver::fullState(std::vector<double>& current, std::vector<double>& previous) const
+{
+    // Active-mode state (q^n, q^{n-1}) as stored, with the paired path's corrections applied.
+    current.resize(Ma_);
+    previous.resize(Ma_);
+    const double* phi = P_ == 1 ? phi_ : nullptr;
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const double ph = phi != nullptr ? phi[i] : 0.0;
+        if (!paired_)
+        {
+            current[i] = q_[i];
+            previous[i] = qPrev_[i];
+        }
+        else if (midPair_)
+        {
+            current[i] = qPrev_[i] + c1_ * ph;
+            previous[i] = settled_[i];
+        }
+        else
+        {
+            current[i] = q_[i] + (c1_ * a_[i] + c2_) * ph;
+            previous[i] = qPrev_[i] + c1_ * ph;
+        }
+    }
+}
+
 std::vector<double> ModalSolver::modalState(bool previous)
 {
-    settle();
+    std::vector<double> current, before;
+    fullState(current, before);
     std::vector<double> full(M_, 0.0);
-    const auto& src = previous ? qPrev_ : q_;
+    const auto& src = previous ? before : current;
     for (int i = 0; i < Ma_; ++i)
         full[active_[i]] = src[i];
     return full;
@@ -335,7 +417,7 @@ void ModalSolver::projectActive(const double* qActive, double* u) const
         return;
     }
     for (int j = 0; j < P_; ++j)
-        u[j] = kernels::dot(phi_.data() + size_t(j) * Ma_, qActive, Ma_);
+        u[j] = kernels::dot(phi_ + size_t(j) * stride_, qActive, Ma_);
 }
 
 void ModalSolver::contactDisplacement(const double* q, double* u) const
@@ -386,11 +468,12 @@ double ModalSolver::contactEnergy(const double* next, const double* current) con
 
 ModalSolver::Energy ModalSolver::energy()
 {
-    settle();
+    std::vector<double> current, previous;
+    fullState(current, previous);
     Energy out;
     std::vector<double> u(P_), uPrev(P_);
-    projectActive(q_.data(), u.data());
-    projectActive(qPrev_.data(), uPrev.data());
+    projectActive(current.data(), u.data());
+    projectActive(previous.data(), uPrev.data());
     for (int j = 0; j < P_; ++j)
         out.contact += contacts_[j].weight * 0.5
                        * (contactPotential(contacts_[j].law, contacts_[j].height - u[j])
@@ -399,8 +482,8 @@ ModalSolver::Energy ModalSolver::energy()
     for (int i = 0; i < Ma_; ++i)
     {
         const auto& c = activeCoeffs_[i];
-        const double v = (q_[i] - qPrev_[i]) / dt_;
-        sum += c.kineticWeight * v * v + c.potentialWeight * q_[i] * qPrev_[i];
+        const double v = (current[i] - previous[i]) / dt_;
+        sum += c.kineticWeight * v * v + c.potentialWeight * current[i] * previous[i];
     }
     out.total = 0.5 * mu_ * sum + out.contact;
     return out;

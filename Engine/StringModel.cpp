@@ -69,9 +69,25 @@ ModalTable buildModalTable(const StringParameters& string, int modeCount)
     return table;
 }
 
+double sinPi(double t)
+{
+    double r = std::fmod(t, 2.0);  // exact
+    if (r < 0.0)
+        r += 2.0;
+    double sign = 1.0;
+    if (r >= 1.0)
+    {
+        r -= 1.0;  // exact
+        sign = -1.0;
+    }
+    if (r > 0.5)
+        r = 1.0 - r;  // exact in [0.5, 1]
+    return r == 0.0 ? 0.0 : sign * std::sin(std::numbers::pi * r);
+}
+
 double modeShape(double lengthMetres, int p, double x)
 {
-    return std::sqrt(2.0 / lengthMetres) * std::sin(p * std::numbers::pi * x / lengthMetres);
+    return std::sqrt(2.0 / lengthMetres) * sinPi(p * (x / lengthMetres));
 }
 
 std::vector<double> pluckModalShape(double lengthMetres, int modeCount, double pluckPosition,
@@ -84,8 +100,7 @@ std::vector<double> pluckModalShape(double lengthMetres, int modeCount, double p
     for (int i = 0; i < modeCount; ++i)
     {
         const double p = i + 1;
-        q[i] = std::sqrt(2.0 / L) * amplitudeMetres * L * L * L * std::sin(p * pi * c / L)
-               / (p * p * pi * pi * c * (L - c));
+        q[i] = std::sqrt(2.0 / L) * amplitudeMetres * L * L * L * sinPi(p * (c / L)) / (p * p * pi * pi * c * (L - c));
     }
     return q;
 }

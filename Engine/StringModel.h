@@ -65,6 +65,10 @@ ModalTable buildModalTable(const StringParameters& string, int modeCount);
 // 1/Q of Valette's law at frequency f (paper eq. 9).
 double valetteInverseQ(const StringParameters& string, double frequencyHz);
 
+// sin(pi t) with the argument reduced exactly (fmod is exact): sin(pi k) is 0 for whole k,
+// and high modes keep full accuracy (sin(p pi x/L) would lose about p ulps). RT.
+double sinPi(double t);
+
 // phi_p(x) = sqrt(2/L) sin(p pi x / L). RT.
 double modeShape(double lengthMetres, int p, double x);
 
