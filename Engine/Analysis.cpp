@@ -78,9 +78,13 @@ double relativeL2(const std::vector<double>& y, const std::vector<double>& ref, 
     return den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
 }
 
-std::vector<double> powerSpectrum(const double* segment, size_t count, size_t fftSize)
+namespace
 {
-    RealFft fft(fftSize);
+// One plan serves every frame of a measurement (planning per frame is slow, and two plans of the
+// same size need not round identically).
+std::vector<double> powerSpectrumWith(RealFft& fft, const double* segment, size_t count)
+{
+    const size_t fftSize = fft.size;
     std::fill(fft.time, fft.time + fftSize, 0.0);
     for (size_t i = 0; i < std::min(count, fftSize); ++i)
         fft.time[i] = segment[i] * hann(i, count);
@@ -89,6 +93,13 @@ std::vector<double> powerSpectrum(const double* segment, size_t count, size_t ff
     for (size_t k = 0; k < p.size(); ++k)
         p[k] = fft.freq[k][0] * fft.freq[k][0] + fft.freq[k][1] * fft.freq[k][1];
     return p;
+}
+}  // namespace
+
+std::vector<double> powerSpectrum(const double* segment, size_t count, size_t fftSize)
+{
+    RealFft fft(fftSize);
+    return powerSpectrumWith(fft, segment, count);
 }
 
 double logSpectralDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz, double seconds,
@@ -103,10 +114,11 @@ double logSpectralDistance(const std::vector<double>& y, const std::vector<doubl
 
     std::vector<std::vector<double>> refFrames, yFrames;
     double peak = 0.0;
+    RealFft fft(n);
     for (size_t start = 0; start + n <= length; start += hop)
     {
-        refFrames.push_back(powerSpectrum(ref.data() + start, n, n));
-        yFrames.push_back(powerSpectrum(y.data() + start, n, n));
+        refFrames.push_back(powerSpectrumWith(fft, ref.data() + start, n));
+        yFrames.push_back(powerSpectrumWith(fft, y.data() + start, n));
         for (size_t k = 0; k <= bins; ++k)
             peak = std::max(peak, refFrames.back()[k]);
     }
@@ -117,9 +129,10 @@ double logSpectralDistance(const std::vector<double>& y, const std::vector<doubl
         double sum = 0.0;
         for (size_t k = 0; k <= bins; ++k)
         {
-            const double a = 10.0 * std::log10(std::max(yFrames[f][k], floorPower));
-            const double b = 10.0 * std::log10(std::max(refFrames[f][k], floorPower));
-            sum += (a - b) * (a - b);
+            // The level difference as the log of a ratio: exact 0 for equal levels (a difference
+            // of two logs would not be, once the compiler fuses it into an FMA).
+            const double d = 10.0 * std::log10(std::max(yFrames[f][k], floorPower) / std::max(refFrames[f][k], floorPower));
+            sum += d * d;
         }
         total += std::sqrt(sum / double(bins + 1));
     }

@@ -67,38 +67,41 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double sAlpha, double r)
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k, const double* guess)
 {
     ScalarContactSolution sol;
-    const double sAlpha = s > 0.0 ? std::pow(s, law.exponent) : 0.0;
-    ChordSlope G = chordSlope(law, s, sAlpha, b);
-    if (G.value == 0.0)
+    if (s <= 0.0 && s - b <= 0.0)
     {
-        // Out of contact at both ends with the contact-free prediction: r = b exactly.
+        // Out of contact at both ends with the contact-free prediction: G(b) = 0, so r = b exactly.
         sol.r = b;
         return sol;
     }
     constexpr double eps = std::numeric_limits<double>::epsilon();
     constexpr int maxIterations = 200;
-    const double K = law.stiffness;
-    double lo = b;  // phi(lo) <= 0
-    double hi = std::max(b, 0.0) + k * K * sAlpha;  // phi(hi) >= 0
-    double r = b;
-    double phi = k * G.value;  // phi(b)
-    double previousStep = hi - lo;
-    if (guess != nullptr && *guess > lo && *guess < hi)
+    const double sAlpha = s > 0.0 ? std::pow(s, law.exponent) : 0.0;
+    double lo = b;                                   // phi(b) = k G(b) <= 0
+    double hi = std::max(b, 0.0) + k * law.stiffness * sAlpha;  // phi(hi) >= 0
+    // Start from the warm guess when it lies inside the bracket, else from b.
+    double r = guess != nullptr && *guess > lo && *guess < hi ? *guess : b;
+    ChordSlope G = chordSlope(law, s, sAlpha, r);
+    double phi = r + k * G.value - b;
+    if (r == b)
+        phi = std::min(phi, 0.0);  // exactly k G(b) <= 0 in exact arithmetic
+    else if (phi < 0.0)
+        lo = r;
+    else if (phi > 0.0)
+        hi = r;
+    // Converged when phi is at rounding level, or when the next Newton step would move r by less
+    // than rounding (stiff contact, phi' >> 1).
+    auto converged = [&](double rNow, double phiNow, const ChordSlope& g) {
+        const double scale = std::abs(rNow) + std::abs(b);
+        return phiNow == 0.0 || std::abs(phiNow) <= 2.0 * eps * (scale + std::abs(k * g.value))
+               || std::abs(phiNow) <= 2.0 * eps * scale * (1.0 + k * g.derivative);
+    };
+    if (r != b && converged(r, phi, G))
     {
-        r = *guess;
-        G = chordSlope(law, s, sAlpha, r);
-        phi = r + k * G.value - b;
-        if (phi < 0.0)
-            lo = r;
-        else if (phi > 0.0)
-            hi = r;
-        else
-        {
-            sol.r = r;
-            sol.slope = G.value;
-            return sol;
-        }
+        sol.r = r;
+        sol.slope = G.value;
+        return sol;
     }
+    double previousStep = hi - lo;
 
     for (int it = 1; it <= maxIterations; ++it)
     {
@@ -118,11 +121,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         else if (phi > 0.0)
             hi = r;
         const double scale = std::abs(r) + std::abs(b) + std::abs(k * G.value);
-        if (phi == 0.0 || std::abs(phi) <= 2.0 * eps * scale || hi - lo <= 2.0 * eps * scale
-            || std::abs(previousStep) <= eps * scale)
-            break;
-        // The next Newton step would move r by less than rounding (stiff contact: phi' >> 1).
-        if (std::abs(phi) <= 2.0 * eps * (std::abs(r) + std::abs(b)) * (1.0 + k * G.derivative))
+        if (converged(r, phi, G) || hi - lo <= 2.0 * eps * scale || std::abs(previousStep) <= eps * scale)
             break;
     }
     sol.r = r;

@@ -31,6 +31,8 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(P);
     previousR_.assign(points_.size(), 0.0);
     olderR_.assign(points_.size(), 0.0);
+    oldestR_.assign(points_.size(), 0.0);
+    oldestContact_.assign(points_.size(), 0);
     previousContact_.assign(points_.size(), 0);
     olderContact_.assign(points_.size(), 0);
 }
@@ -39,6 +41,7 @@ void ContactSystem::reset()
 {
     std::fill(previousContact_.begin(), previousContact_.end(), 0);
     std::fill(olderContact_.begin(), olderContact_.end(), 0);
+    std::fill(oldestContact_.begin(), oldestContact_.end(), 0);
 }
 
 double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
@@ -81,12 +84,16 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
         for (Eigen::Index j = 0; j < P; ++j)
         {
             double guess = previousR_[j];
-            if (olderContact_[j])
+            if (oldestContact_[j])
+                guess = 3.0 * (previousR_[j] - olderR_[j]) + oldestR_[j];
+            else if (olderContact_[j])
                 guess = 2.0 * previousR_[j] - olderR_[j];
             const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j),
                                                 previousContact_[j] ? &guess : nullptr);
             r[j] = sol.r;
             slope[j] = sol.slope;
+            oldestR_[j] = olderR_[j];
+            oldestContact_[j] = olderContact_[j];
             olderR_[j] = previousR_[j];
             olderContact_[j] = previousContact_[j];
             previousR_[j] = sol.r;

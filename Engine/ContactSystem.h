@@ -42,9 +42,9 @@ private:
     bool diagonal_ = true;
     Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;
     Eigen::MatrixXd J_;
-    // Warm start: the last two steps' r where the point was in contact, extrapolated linearly.
-    std::vector<double> previousR_, olderR_;
-    std::vector<char> previousContact_, olderContact_;
+    // Warm start: the last three steps' r where the point was in contact, extrapolated.
+    std::vector<double> previousR_, olderR_, oldestR_;
+    std::vector<char> previousContact_, olderContact_, oldestContact_;
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
