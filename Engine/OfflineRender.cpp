@@ -103,6 +103,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     solver.setInitialDisplacement(setup.initial);
     RenderStats stats;
     stats.modes = solver.modeCount();
+    stats.activeModes = solver.activeModeCount();
     stats.internalRateHz = setup.rateHz;
     stats.transformPath = solver.usesTransform();
     std::vector<double> out;
@@ -124,6 +125,7 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     result.outputRateHz = scene.simulation.outputRateHz;
     auto& stats = result.stats;
     stats.modes = solver.modeCount();
+    stats.activeModes = solver.activeModeCount();
     stats.internalRateHz = setup.rateHz;
     stats.transformPath = solver.usesTransform();
 

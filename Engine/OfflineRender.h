@@ -27,6 +27,7 @@ struct RenderStats
     int newtonIterationsMax = 0;
     double maxPenetrationMetres = 0.0;
     int modes = 0;
+    int activeModes = 0;  // modes actually stepped (ModalSolver::activeModeCount)
     double internalRateHz = 0.0;
     bool transformPath = false;
     double cpuSeconds = 0.0;

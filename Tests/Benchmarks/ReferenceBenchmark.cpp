@@ -24,8 +24,8 @@ int main(int argc, char** argv)
         const auto steps = static_cast<long long>(seconds * scene.simulation.rateHz.value_or(kReferenceRateHz));
         RenderStats stats;
         renderInternal(scene, steps, {}, &stats);
-        std::printf("%-16s %-10s %6d %7s %9.3g %9.3f %10.2f %8.3f\n", name, stats.transformPath ? "DST-I" : "projection",
-                    stats.modes, "", stats.internalRateHz, stats.cpuSeconds, seconds / stats.cpuSeconds,
+        std::printf("%-16s %-10s %6d %7d %9.3g %9.3f %10.2f %8.3f\n", name, stats.transformPath ? "DST-I" : "projection",
+                    stats.modes, stats.activeModes, stats.internalRateHz, stats.cpuSeconds, seconds / stats.cpuSeconds,
                     double(stats.newtonIterationsTotal) / double(stats.steps));
     }
     return 0;
