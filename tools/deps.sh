@@ -9,6 +9,7 @@ packages=(
     libeigen3-dev              # small dense solves (the coupled contact Newton)
     libfftw3-dev               # DST-I for the reference, spectra for analysis
     libsoxr-dev                # resampling the internal rate to the output rate
+    libliquid-dev              # FIR design (Kaiser window) for the voice's decimator
     nlohmann-json3-dev         # scene files (the engine has no JUCE)
     catch2                     # tests (Catch2 v2)
 )

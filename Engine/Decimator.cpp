@@ -1,0 +1,70 @@
+#include "Decimator.h"
+
+#include "ModalKernels.h"
+
+#include <liquid/liquid.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace jawari
+{
+
+Decimator::Decimator(int factor, double hostRateHz) : factor_(factor)
+{
+    if (factor < 1 || factor > 256)
+        throw std::invalid_argument("decimation factor must be 1 to 256, got " + std::to_string(factor));
+    passbandHz_ = std::min(20000.0, 0.45 * hostRateHz);
+    if (factor == 1)
+    {
+        taps_ = {1.0};
+        history_.assign(2, 0.0);
+        return;
+    }
+    const double internalRate = factor * hostRateHz;
+    const double stopbandHz = 0.5 * hostRateHz;
+    const double attenuationDb = 100.0;
+    const float transition = static_cast<float>((stopbandHz - passbandHz_) / internalRate);
+    unsigned int n = estimate_req_filter_len(transition, static_cast<float>(attenuationDb));
+    // Odd length with (n - 1)/2 a multiple of the factor: the delay is a whole number of host samples.
+    const unsigned int step = 2u * static_cast<unsigned int>(factor);
+    n = (n + step - 2) / step * step + 1;
+    std::vector<float> h(n);
+    const float cutoff = static_cast<float>(0.5 * (passbandHz_ + stopbandHz) / internalRate);
+    if (liquid_firdes_kaiser(n, cutoff, static_cast<float>(attenuationDb), 0.0f, h.data()) != 0)
+        throw std::runtime_error("liquid_firdes_kaiser failed for a decimator of length " + std::to_string(n));
+    double sum = 0.0;
+    for (float v : h)
+        sum += v;
+    taps_.resize(n);
+    for (unsigned int i = 0; i < n; ++i)
+        taps_[i] = static_cast<double>(h[n - 1 - i]) / sum;  // unit gain at DC, time-reversed
+    latency_ = static_cast<int>((n - 1) / 2 / static_cast<unsigned int>(factor));
+    history_.assign(2 * n, 0.0);
+}
+
+void Decimator::reset()
+{
+    std::fill(history_.begin(), history_.end(), 0.0);
+    position_ = 0;
+}
+
+double Decimator::process(const double* internal)
+{
+    const int n = length();
+    if (n == 1)
+        return internal[factor_ - 1];
+    for (int i = 0; i < factor_; ++i)
+    {
+        history_[position_] = internal[i];
+        history_[position_ + n] = internal[i];
+        if (++position_ == n)
+            position_ = 0;
+    }
+    // history_[position_ .. position_ + n) holds the last n samples, oldest first.
+    return kernels::dot(taps_.data(), history_.data() + position_, n);
+}
+
+}  // namespace jawari

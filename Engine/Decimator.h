@@ -1,0 +1,38 @@
+#pragma once
+// Integer-factor decimation from the voice's internal rate R = factor x host rate to the host rate.
+// A linear-phase low-pass FIR designed by liquid-dsp's Kaiser-window routine (liquid_firdes_kaiser,
+// length from estimate_req_filter_len): passband to min(20 kHz, 0.45 host rate), stopband from the
+// host Nyquist frequency, 100 dB design attenuation, so nothing aliases back at all.
+// Latency: (length - 1)/2 internal samples, made a whole number of host samples.
+
+#include <vector>
+
+namespace jawari
+{
+
+class Decimator
+{
+public:
+    // OFF: designs the filter and sizes the history. factor 1 is a pass-through (latency 0).
+    Decimator(int factor, double hostRateHz);
+
+    int factor() const { return factor_; }
+    int length() const { return static_cast<int>(taps_.size()); }
+    int latencyHostSamples() const { return latency_; }
+    double passbandHz() const { return passbandHz_; }
+    const std::vector<double>& taps() const { return taps_; }
+
+    // RT: takes `factor` internal samples, returns one host sample.
+    double process(const double* internal);
+    void reset();  // RT: clears the history
+
+private:
+    int factor_ = 1;
+    int latency_ = 0;
+    double passbandHz_ = 0.0;
+    std::vector<double> taps_;     // time-reversed, so the output is a plain dot product
+    std::vector<double> history_;  // 2 x length: each sample written twice, windows contiguous
+    int position_ = 0;
+};
+
+}  // namespace jawari
