@@ -90,10 +90,14 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     const double L = config.lengthMetres;
 
     coeffs_.resize(M_);
+    coeffsReleased_.resize(M_);
     omega_ = config.modes.omega;
     sigma_ = config.modes.sigma;
     for (int p = 0; p < M_; ++p)
+    {
         coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
+        coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
+    }
     pickupWeights_ = config.pickupWeights;
     pickupWeights_.resize(M_, 0.0);
     for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_})
@@ -125,13 +129,28 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
             hp += pickupWeights_[p] * shapes_[size_t(j) * M_ + p];
         pickupPhiW_[j] = forceScale_ * contacts_[j].weight * hp;
     }
-    // A mode is coupled when some contact point sees it above rounding (|phi| <= sqrt(2/L)).
+    // A mode is coupled when some contact point, or the excitation point, sees it above rounding
+    // (|phi| <= sqrt(2/L)).
     coupled_.assign(M_, useTransform ? 1 : 0);
     const double couplingFloor = 1e-13 * std::sqrt(2.0 / L);
     for (int j = 0; j < P_; ++j)
         for (int p = 0; p < M_; ++p)
             if (std::abs(shapes_[size_t(j) * M_ + p]) > couplingFloor)
                 coupled_[p] = 1;
+    contactPhiE_.assign(P_, 0.0);
+    if (config.excitationPosition)
+    {
+        excitationShape_.resize(M_);
+        for (int p = 0; p < M_; ++p)
+        {
+            excitationShape_[p] = modeShape(L, p + 1, *config.excitationPosition);
+            if (std::abs(excitationShape_[p]) > couplingFloor)
+                coupled_[p] = 1;
+        }
+        pickupPhiE_ = forceScale_ * kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_);
+        for (int j = 0; j < P_; ++j)
+            contactPhiE_[j] = forceScale_ * kernels::dot(&shapes_[size_t(j) * M_], excitationShape_.data(), M_);
+    }
 
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P_, P_);
     if (useTransform)
@@ -175,17 +194,19 @@ void ModalSolver::compact(const std::vector<double>& current, const std::vector<
     if (transform_)
         Mpad_ = Ma_;  // the DST works on exactly M values
     activeCoeffs_.resize(Ma_);
+    activeCoeffsReleased_.resize(Ma_);
+    indexOfMode_.assign(M_, -1);
     // stride_ * 8 bytes = 576 (mod 4096): consecutive arrays sit 9 cache lines apart modulo 4 KiB.
     stride_ = (Mpad_ + 7) / 8 * 8;
     while ((stride_ * 8) % 4096 != 576)
         stride_ += 8;
-    const int arrays = 6 + (transform_ ? 0 : P_);
+    const int arrays = 9 + (transform_ ? 0 : P_);
     storage_.assign(static_cast<size_t>(stride_) * arrays + 8, 0.0);
     double* base = storage_.data();
     while (reinterpret_cast<std::uintptr_t>(base) % 64 != 0)
         ++base;
     double* next = base;
-    for (double** array : {&a_, &e_, &h_, &q_, &qPrev_, &settled_})
+    for (double** array : {&aNormal_, &eNormal_, &aReleased_, &eReleased_, &h_, &q_, &qPrev_, &settled_, &phiE_})
     {
         *array = next;
         next += stride_;
@@ -194,30 +215,41 @@ void ModalSolver::compact(const std::vector<double>& current, const std::vector<
     for (int i = 0; i < Ma_; ++i)
     {
         const int p = active_[i];
+        indexOfMode_[p] = i;
         activeCoeffs_[i] = coeffs_[p];
-        a_[i] = coeffs_[p].a;
-        e_[i] = coeffs_[p].e;
+        activeCoeffsReleased_[i] = coeffsReleased_[p];
+        aNormal_[i] = coeffs_[p].a;
+        eNormal_[i] = coeffs_[p].e;
+        aReleased_[i] = coeffsReleased_[p].a;
+        eReleased_[i] = coeffsReleased_[p].e;
         h_[i] = pickupWeights_[p];
         q_[i] = current[p];
         qPrev_[i] = previous[p];
+        phiE_[i] = excitationShape_.empty() ? 0.0 : excitationShape_[p];
     }
+    released_ = false;
+    a_ = aNormal_;
+    e_ = eNormal_;
     if (!transform_)
     {
         for (int j = 0; j < P_; ++j)
             for (int i = 0; i < Ma_; ++i)
                 phi_[size_t(j) * stride_ + i] = shapes_[size_t(j) * M_ + active_[i]];
     }
-    paired_ = !transform_ && P_ <= 1;
-    midPair_ = false;
+    canPair_ = !transform_ && P_ <= 1;
+    layout_ = Layout::single;
     c1_ = c2_ = 0.0;
-    sumPhiSquared_ = sumAPhiSquared_ = sumAPhiH_ = 0.0;
-    if (paired_ && P_ == 1)
-        for (int i = 0; i < Ma_; ++i)
-        {
-            sumPhiSquared_ += phi_[i] * phi_[i];
-            sumAPhiSquared_ += a_[i] * phi_[i] * phi_[i];
-            sumAPhiH_ += a_[i] * phi_[i] * h_[i];
-        }
+    for (int set = 0; set < 2; ++set)
+    {
+        const double* a = set == 0 ? aNormal_ : aReleased_;
+        sumAPhiSquared_[set] = sumAPhiH_[set] = 0.0;
+        if (canPair_ && P_ == 1)
+            for (int i = 0; i < Ma_; ++i)
+            {
+                sumAPhiSquared_[set] += a[i] * phi_[i] * phi_[i];
+                sumAPhiH_[set] += a[i] * phi_[i] * h_[i];
+            }
+    }
 }
 
 void ModalSolver::setState(const std::vector<double>& current, const std::vector<double>& previous)
@@ -243,10 +275,74 @@ void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplac
 
 void ModalSolver::step()
 {
-    if (paired_)
+    if (canPair_ && externalForce_ == 0.0)
+    {
+        if (layout_ == Layout::single)
+        {
+            layout_ = Layout::pairBoundary;  // q_ = q^n, qPrev_ = q^{n-1}: the boundary form with c = 0
+            c1_ = c2_ = 0.0;
+        }
         stepPaired();
+        return;
+    }
+    toSingle();
+    stepSingle();
+}
+
+void ModalSolver::toSingle()
+{
+    if (layout_ == Layout::single)
+        return;
+    const double* phi = P_ == 1 ? phi_ : nullptr;
+    if (layout_ == Layout::pairBoundary)
+    {
+        if (phi != nullptr)
+            for (int i = 0; i < Mpad_; ++i)
+            {
+                q_[i] += (c1_ * a_[i] + c2_) * phi[i];
+                qPrev_[i] += c1_ * phi[i];
+            }
+    }
     else
-        stepSingle();
+        for (int i = 0; i < Mpad_; ++i)
+        {
+            q_[i] = qPrev_[i] + (phi != nullptr ? c1_ * phi[i] : 0.0);
+            qPrev_[i] = settled_[i];
+        }
+    c1_ = c2_ = 0.0;
+    layout_ = Layout::single;
+}
+
+void ModalSolver::setExternalForce(double newtons)
+{
+    externalForce_ = excitationShape_.empty() ? 0.0 : newtons;
+}
+
+void ModalSolver::setReleased(bool released)
+{
+    if (released == released_)
+        return;
+    toSingle();  // the paired layout's corrections use the coefficients of its pass
+    released_ = released;
+    a_ = released ? aReleased_ : aNormal_;
+    e_ = released ? eReleased_ : eNormal_;
+}
+
+void ModalSolver::copyStateFrom(ModalSolver& other)
+{
+    other.toSingle();
+    toSingle();
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const int p = active_[i];
+        const int k = p < other.M_ ? other.indexOfMode_[p] : -1;
+        q_[i] = k >= 0 ? other.q_[k] : 0.0;
+        qPrev_[i] = k >= 0 ? other.qPrev_[k] : 0.0;
+    }
+    system_.reset();
+    projectActive(q_, uC_.data());
+    projectActive(qPrev_, uCPrev_.data());
+    pickup_ = kernels::dot(h_, q_, Ma_);
 }
 
 double ModalSolver::solveOnePoint(double uTilde)
@@ -266,7 +362,7 @@ void ModalSolver::stepPaired()
     lastIterations_ = 0;
     lastPenetration_ = -std::numeric_limits<double>::infinity();
     const double* phi = P_ == 1 ? phi_ : nullptr;
-    if (!midPair_)
+    if (layout_ == Layout::pairBoundary)
     {
         double u1 = 0.0;
         kernels::pairStep(a_, e_, qPrev_, q_, settled_, h_, phi, c1_, c2_,
@@ -280,19 +376,20 @@ void ModalSolver::stepPaired()
             y -= pickupPhiW_[0] * G;
         }
         pickup_ = y;
-        midPair_ = true;
+        layout_ = Layout::pairMiddle;
         return;
     }
     // Second step of the pair: q~^{n+2} = Y + c1 a phi, so its projections gain c1 sum(a phi phi).
-    double y = pairPickup2_ + c1_ * sumAPhiH_;
+    const int set = released_ ? 1 : 0;
+    double y = pairPickup2_ + c1_ * sumAPhiH_[set];
     if (P_ == 1)
     {
-        const double G = solveOnePoint(pairContact2_ + c1_ * sumAPhiSquared_);
+        const double G = solveOnePoint(pairContact2_ + c1_ * sumAPhiSquared_[set]);
         c2_ = -forceScale_ * contacts_[0].weight * G;
         y -= pickupPhiW_[0] * G;
     }
     pickup_ = y;
-    midPair_ = false;
+    layout_ = Layout::pairBoundary;
 }
 
 void ModalSolver::stepSingle()
@@ -300,6 +397,12 @@ void ModalSolver::stepSingle()
     // q~ = a q - e q^{n-1}, written over q^{n-1}; its pickup and contact projections.
     double unused = 0.0;
     kernels::predict(a_, e_, q_, qPrev_, h_, nullptr, Mpad_, pickupTilde_, unused);
+    if (externalForce_ != 0.0)
+    {
+        // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.
+        kernels::axpy(forceScale_ * externalForce_, phiE_, qPrev_, Mpad_);
+        pickupTilde_ += externalForce_ * pickupPhiE_;
+    }
     if (transform_)
     {
         double* in = transform_->in;
@@ -375,12 +478,12 @@ void ModalSolver::fullState(std::vector<double>& current, std::vector<double>& p
     for (int i = 0; i < Ma_; ++i)
     {
         const double ph = phi != nullptr ? phi[i] : 0.0;
-        if (!paired_)
+        if (layout_ == Layout::single)
         {
             current[i] = q_[i];
             previous[i] = qPrev_[i];
         }
-        else if (midPair_)
+        else if (layout_ == Layout::pairMiddle)
         {
             current[i] = qPrev_[i] + c1_ * ph;
             previous[i] = settled_[i];
@@ -479,9 +582,10 @@ ModalSolver::Energy ModalSolver::energy()
                        * (contactPotential(contacts_[j].law, contacts_[j].height - u[j])
                           + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j]));
     double sum = 0.0;
+    const auto& coefficients = released_ ? activeCoeffsReleased_ : activeCoeffs_;
     for (int i = 0; i < Ma_; ++i)
     {
-        const auto& c = activeCoeffs_[i];
+        const auto& c = coefficients[i];
         const double v = (current[i] - previous[i]) / dt_;
         sum += c.kineticWeight * v * v + c.potentialWeight * current[i] * previous[i];
     }

@@ -17,6 +17,7 @@
 #include "StringModel.h"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace jawari
@@ -38,6 +39,10 @@ struct ModalSolverConfig
     std::vector<ContactPoint> contacts;
     std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
     ContactPath path = ContactPath::automatic;
+    // Where setExternalForce() pushes (the voice's pluck); its modes are kept active.
+    std::optional<double> excitationPosition;
+    // Extra damping (1/s, every mode) of the second coefficient set, selected by setReleased().
+    double releaseSigma = 0.0;
 };
 
 class ModalSolver
@@ -55,6 +60,17 @@ public:
     void setState(const std::vector<double>& current, const std::vector<double>& previous);
 
     void step();  // RT: n -> n+1
+
+    // RT: a point force (N) at the excitation position, applied explicitly from the next step on
+    // (part of the prediction: q~ += (dt^2/mu) F phi_e) until set back to 0.
+    void setExternalForce(double newtons);
+    // RT: switch to the damping set with releaseSigma added (note-off) or back. The state carries
+    // over unchanged, so the sound does not jump.
+    void setReleased(bool released);
+    bool released() const { return released_; }
+    // RT: take the string state of another solver of the same modes (a new obstacle or contact
+    // model handed over from the control thread). No allocation.
+    void copyStateFrom(ModalSolver& other);
 
     int modeCount() const { return M_; }
     // Modes actually stepped: a mode that no contact point couples to (phi_p(x_j) = 0 for every j,
@@ -94,8 +110,19 @@ public:
 
 private:
     struct Transform;
-    void stepSingle();      // one pass per step: many points, or the transform path
+    // How the stepping arrays hold the state (see kernels::pairStep):
+    //  single:       q_ = q^n, qPrev_ = q^{n-1};
+    //  pairBoundary: q^n = q_ + (c1 a + c2) phi, q^{n-1} = qPrev_ + c1 phi;
+    //  pairMiddle:   q^n = qPrev_ + c1 phi, q^{n-1} = settled_ (q_ holds the pair's raw second step).
+    enum class Layout
+    {
+        single,
+        pairBoundary,
+        pairMiddle
+    };
+    void stepSingle();      // one pass per step: many points, the transform path, or a force
     void stepPaired();      // one pass per two steps: at most one point (projection)
+    void toSingle();        // RT: rewrites a paired layout as the single one
     double solveOnePoint(double uTilde);  // contact at the single point; returns its slope G
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     void compact(const std::vector<double>& current, const std::vector<double>& previous);
@@ -115,15 +142,22 @@ private:
 
     // Stepping arrays over the active modes (all modes in the transform path).
     std::vector<int> active_;
-    std::vector<ExactModeCoefficients> activeCoeffs_;
+    std::vector<ExactModeCoefficients> activeCoeffs_, activeCoeffsReleased_;
+    std::vector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
+    std::vector<int> indexOfMode_;  // active index of mode p, or -1
     // The stepping arrays live in one 64-byte-aligned block, each `stride_` doubles apart, with the
     // stride staggered modulo 4 KiB: arrays exactly 4 KiB apart make every load alias the stores
     // of the pass (measured: 501 modes padded to 512 ran 1.7x slower).
     std::vector<double> storage_;
     int stride_ = 0;
-    double* a_ = nullptr;
+    double* a_ = nullptr;  // the coefficient set in use (normal or released)
     double* e_ = nullptr;
+    double* aNormal_ = nullptr;
+    double* eNormal_ = nullptr;
+    double* aReleased_ = nullptr;
+    double* eReleased_ = nullptr;
     double* h_ = nullptr;
+    double* phiE_ = nullptr;  // excitation shape over the active modes
     double* phi_ = nullptr;  // P rows, stride_ apart
     // Single path: q_ = q^n, qPrev_ = q^{n-1}.
     // Paired path (see kernels::pairStep): qPrev_ = X, q_ = Y, settled_ = q^m, with the scalar
@@ -132,11 +166,17 @@ private:
     double* q_ = nullptr;
     double* qPrev_ = nullptr;
     double* settled_ = nullptr;
-    bool paired_ = false;
-    bool midPair_ = false;
+    bool canPair_ = false;
+    Layout layout_ = Layout::single;
     double c1_ = 0.0, c2_ = 0.0;
     double pairContact2_ = 0.0, pairPickup2_ = 0.0;
-    double sumPhiSquared_ = 0.0, sumAPhiSquared_ = 0.0, sumAPhiH_ = 0.0;  // over the active modes
+    // sum_p a_p phi_p^2 and sum_p a_p phi_p h_p over the active modes, per damping set.
+    double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0};
+    bool released_ = false;
+    std::vector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
+    double externalForce_ = 0.0;           // N
+    double pickupPhiE_ = 0.0;              // (dt^2/mu) h . phi_e
+    std::vector<double> contactPhiE_;      // (dt^2/mu) phi_j . phi_e
 
     std::vector<double> pickupPhiW_;  // (dt^2/mu) w_j (h . phi_j)
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_;

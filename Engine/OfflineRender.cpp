@@ -3,6 +3,8 @@
 #include "CpuClock.h"
 #include "Denormals.h"
 #include "ModalSolver.h"
+#include "Quality.h"
+#include "Voice.h"
 #include "Resampler.h"
 
 #include <algorithm>
@@ -93,6 +95,67 @@ void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderSt
         options.progress(1.0);
 }
 
+VoiceConfig voiceConfigFor(const Scene& scene)
+{
+    const auto q = automaticQuality(scene);
+    VoiceConfig v;
+    v.string = scene.string;
+    v.obstacles = scene.obstacles;
+    v.excitationPosition = scene.excitation.position;
+    v.pickupPosition = scene.pickup.position;
+    v.quantity = scene.pickup.quantity;
+    v.modes = q.modes;
+    v.oversampling = q.oversampling;
+    v.hostRateHz = scene.simulation.outputRateHz;
+    return v;
+}
+
+// The voice, plucked from the scene's triangular shape at rest like the reference, its decimator's
+// latency removed so output sample m is the string at t = m / output rate.
+RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
+{
+    Voice voice(voiceConfigFor(scene));
+    voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
+    RenderResult result;
+    result.outputRateHz = scene.simulation.outputRateHz;
+    auto& stats = result.stats;
+    stats.modes = voice.modes();
+    stats.activeModes = voice.activeModes();
+    stats.internalRateHz = voice.internalRateHz();
+    const size_t count = static_cast<size_t>(std::llround(scene.simulation.durationSeconds * result.outputRateHz));
+    const size_t latency = static_cast<size_t>(voice.latencySamples());
+    std::vector<double> raw(count + latency);
+    const size_t block = 256;
+    ScopedFlushDenormals noDenormals;
+    const double start = threadCpuSeconds();
+    for (size_t m = 0; m < raw.size(); m += block)
+    {
+        const size_t n = std::min(block, raw.size() - m);
+        for (size_t i = 0; i < n; ++i)
+        {
+            voice.process(raw.data() + m + i, 1);
+            const int it = voice.solver().lastIterations();
+            stats.newtonIterationsTotal += it;  // of the last internal step of each host sample
+            if (options.logEnergy && m + i < count)
+            {
+                const auto H = voice.solver().energy();
+                result.energy.push_back({double(m + i + 1) / result.outputRateHz, H.total, H.contact, it, it});
+            }
+        }
+        stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, voice.takeMaxIterations());
+        stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, voice.takeMaxPenetration());
+        if (options.progress && !options.progress(double(m) / double(raw.size())))
+            throw std::runtime_error("render cancelled");
+    }
+    stats.cpuSeconds = threadCpuSeconds() - start;
+    stats.steps = static_cast<long long>(raw.size()) * voice.oversampling();
+    result.output.assign(raw.begin() + static_cast<std::ptrdiff_t>(latency), raw.end());
+    for (double v : result.output)
+        if (!std::isfinite(v))
+            throw std::runtime_error("the simulation produced a non-finite sample");
+    return result;
+}
+
 }  // namespace
 
 std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options, RenderStats* statsOut)
@@ -117,6 +180,8 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
 RenderResult renderScene(const Scene& scene, const RenderOptions& options)
 {
     validateScene(scene);
+    if (scene.simulation.method == Method::realtime)
+        return renderRealtime(scene, options);
     auto setup = referenceSetup(scene, options.path);
     ModalSolver solver(setup.config);
     solver.setInitialDisplacement(setup.initial);

@@ -276,6 +276,7 @@ const char* methodName(Method m)
     switch (m)
     {
         case Method::reference: return "reference";
+        case Method::realtime: return "realtime";
     }
     return "reference";
 }
@@ -284,6 +285,8 @@ std::optional<Method> methodFromName(const std::string& name)
 {
     if (name == "reference")
         return Method::reference;
+    if (name == "realtime")
+        return Method::realtime;
     return std::nullopt;
 }
 
@@ -324,7 +327,14 @@ void validateScene(const Scene& scene)
     if (sim.outputRateHz < 8000 || sim.outputRateHz > 384000)
         throw SceneError("simulation.output_rate", "must be between 8000 and 384000 Hz (got "
                                                        + std::to_string(sim.outputRateHz) + ")");
-    const double rate = sim.rateHz.value_or(kReferenceRateHz);
+    if (sim.method == Method::realtime && sim.rateHz)
+    {
+        const double ratio = *sim.rateHz / sim.outputRateHz;
+        if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1 || std::round(ratio) > 256)
+            throw SceneError("simulation.rate", "the realtime method runs at a whole multiple (1 to 256) of the output rate "
+                                                    + std::to_string(sim.outputRateHz) + " Hz (got " + show(*sim.rateHz) + " Hz)");
+    }
+    const double rate = sim.rateHz.value_or(sim.method == Method::realtime ? sim.outputRateHz : kReferenceRateHz);
     if (rate < sim.outputRateHz)
         throw SceneError("simulation.rate", "the internal rate " + show(rate) + " Hz must be at least the output rate "
                                                 + std::to_string(sim.outputRateHz) + " Hz");
@@ -399,7 +409,7 @@ Scene parseScene(const std::string& jsonText)
     if (top.has("simulation"))
     {
         ObjectReader r(top.raw("simulation"), "simulation");
-        r.string("method", "reference", {"reference"});
+        scene.simulation.method = *methodFromName(r.string("method", "reference", {"reference", "realtime"}));
         if (r.has("rate"))
             scene.simulation.rateHz = r.positive("rate", 0.0);
         if (const auto m = r.integer("modes"))

@@ -36,7 +36,8 @@ enum class PickupQuantity
 
 enum class Method
 {
-    reference  // the paper's configuration: M = N - 1 modes on the grid (ReferenceSolver)
+    reference,  // the paper's configuration: M = N - 1 modes on the grid, resampled to the output
+    realtime    // the plugin's voice: truncated modes, R = oversampling x output rate, decimated
 };
 
 struct Excitation
@@ -54,8 +55,8 @@ struct Pickup
 struct Simulation
 {
     Method method = Method::reference;
-    std::optional<double> rateHz;  // internal rate; reference default 2 MHz
-    std::optional<int> modes;      // reference default 1001
+    std::optional<double> rateHz;  // internal rate; reference default 2 MHz, realtime: automatic
+    std::optional<int> modes;      // reference default 1001, realtime: automatic
     double durationSeconds = 1.0;
     int outputRateHz = 48000;
 };

@@ -29,7 +29,9 @@ constexpr const char* usage = R"(jawari-render: render a jawari-scene/1 file to 
 usage: jawari-render SCENE.json -o OUT.wav [options]
 
   -o, --output FILE       the WAV file to write (required)
-  --method NAME           solver: reference (the paper's configuration)
+  --method NAME           reference (the paper's configuration) or realtime (the plugin's voice:
+                          truncated modes, oversampled, decimated; modes and rate automatic
+                          unless given)
   --modes M               number of modes (reference: N - 1 = M grid nodes)
   --rate HZ               internal simulation rate in Hz
   --duration S            seconds to render
@@ -173,7 +175,7 @@ int run(int argc, char* argv[])
     {
         const auto m = jawari::methodFromName(method->toStdString());
         if (!m)
-            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference)");
+            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference, realtime)");
         scene.simulation.method = *m;
     }
     if (modes)

@@ -1,0 +1,147 @@
+#include "Voice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace jawari
+{
+
+ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
+{
+    const auto& s = config.string;
+    const double L = s.lengthMetres;
+    const int M = config.modes;
+    ModalSolverConfig c;
+    c.lengthMetres = L;
+    c.linearDensity = s.linearDensity;
+    c.timeStep = 1.0 / (config.oversampling * config.hostRateHz);
+    c.modes = buildModalTable(s, M);
+    c.contacts = contactPointsOnGrid(config.obstacles, L, M + 1);
+    c.path = ContactPath::projection;
+    c.excitationPosition = config.excitationPosition;
+    c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
+    c.pickupWeights.resize(M);
+    for (int p = 1; p <= M; ++p)
+    {
+        if (config.quantity == PickupQuantity::force)
+        {
+            const double k = p * std::numbers::pi / L;
+            c.pickupWeights[p - 1] = std::sqrt(2.0 / L) * s.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
+        }
+        else
+            c.pickupWeights[p - 1] = modeShape(L, p, config.pickupPosition);
+    }
+    return c;
+}
+
+Voice::Voice(const VoiceConfig& config)
+    : solver_(voiceSolverConfig(config)),
+      decimator_(config.oversampling, config.hostRateHz),
+      oversampling_(config.oversampling),
+      hostRate_(config.hostRateHz),
+      quantity_(config.quantity),
+      dt_(1.0 / (config.oversampling * config.hostRateHz))
+{
+    block_.assign(oversampling_, 0.0);
+    lengthMetres_ = config.string.lengthMetres;
+    pulseSteps_ = std::max<long>(1, std::lround(config.pluckSeconds / dt_));
+    pluckForce_ = config.pluckForceNewtons;
+    pulseStep_ = pulseSteps_;  // no pulse running
+}
+
+void Voice::setInitialShape(double position, double amplitudeMetres)
+{
+    solver_.setInitialDisplacement(pluckModalShape(lengthMetres_, solver_.modeCount(), position, amplitudeMetres));
+    first_ = true;
+    decimator_.reset();
+}
+
+void Voice::pluck(double velocity)
+{
+    pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_;
+    pulseStep_ = 0;
+}
+
+void Voice::release()
+{
+    solver_.setReleased(true);
+}
+
+void Voice::unrelease()
+{
+    solver_.setReleased(false);
+}
+
+double Voice::nextInternalSample()
+{
+    if (pulseStep_ < pulseSteps_)
+    {
+        // Raised-cosine force pulse: smooth on and off, so a sounding string is plucked without a click.
+        const double phase = (double(pulseStep_) + 0.5) / double(pulseSteps_);
+        solver_.setExternalForce(pulsePeak_ * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase)));
+        if (++pulseStep_ == pulseSteps_)
+            pulseStep_ = pulseSteps_ + 1;  // one more step to switch the force off
+    }
+    else if (pulseStep_ == pulseSteps_ + 1)
+    {
+        solver_.setExternalForce(0.0);
+        pulseStep_ = pulseSteps_;
+    }
+    if (first_)
+    {
+        // The stream starts at u^0, like the reference's (sample n is the string at t = n dt).
+        y_ = solver_.pickup();
+        yPrevious_ = y_;
+        first_ = false;
+    }
+    solver_.step();
+    const double yNext = solver_.pickup();
+    maxIterations_ = std::max(maxIterations_, solver_.lastIterations());
+    if (solver_.contactCount() > 0)
+        maxPenetration_ = std::max(maxPenetration_, solver_.lastMaxPenetration());
+    double sample = y_;
+    if (quantity_ == PickupQuantity::velocity)
+        sample = (yNext - yPrevious_) / (2.0 * dt_);
+    yPrevious_ = y_;
+    y_ = yNext;
+    return sample;
+}
+
+void Voice::process(double* out, int numSamples)
+{
+    for (int m = 0; m < numSamples; ++m)
+    {
+        for (int i = 0; i < oversampling_; ++i)
+            block_[i] = nextInternalSample();
+        out[m] = decimator_.process(block_.data());
+    }
+}
+
+void Voice::takeStateFrom(Voice& other)
+{
+    solver_.copyStateFrom(other.solver_);
+    solver_.setReleased(other.solver_.released());
+    y_ = other.y_;
+    yPrevious_ = other.yPrevious_;
+    first_ = other.first_;
+    pulseStep_ = other.pulseStep_;
+    pulsePeak_ = other.pulsePeak_;
+    decimator_ = other.decimator_;  // same factor and length: a copy of equal-sized vectors, no allocation
+}
+
+int Voice::takeMaxIterations()
+{
+    const int m = maxIterations_;
+    maxIterations_ = 0;
+    return m;
+}
+
+double Voice::takeMaxPenetration()
+{
+    const double m = maxPenetration_;
+    maxPenetration_ = 0.0;
+    return m;
+}
+
+}  // namespace jawari

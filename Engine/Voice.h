@@ -1,0 +1,91 @@
+#pragma once
+// The real-time voice (DESIGN.md section 2, "The real-time engine"; section 5): M truncated modes,
+// contact points only where obstacles are, an internal rate R = oversampling x host rate, and a
+// decimator to the host rate. What the plugin plays and `jawari-render --method realtime` runs.
+//
+// Construction is OFF (tables, contact matrices, filter design). pluck(), release(), process()
+// and takeStateFrom() are RT: no allocation, no locks, no I/O.
+
+#include "Decimator.h"
+#include "ModalSolver.h"
+#include "Obstacle.h"
+#include "Scene.h"
+#include "StringModel.h"
+
+#include <vector>
+
+namespace jawari
+{
+
+struct VoiceConfig
+{
+    StringParameters string;
+    std::vector<Obstacle> obstacles;
+    double excitationPosition = 0.501;  // where pluck() pushes (m)
+    double pickupPosition = 0.992;      // m
+    PickupQuantity quantity = PickupQuantity::displacement;
+    int modes = 200;                    // M
+    int oversampling = 8;               // R / host rate
+    double hostRateHz = 48000.0;
+    double releaseSeconds = 0.25;       // note-off: every mode gains damping ln(1000)/releaseSeconds
+    double pluckSeconds = 1.5e-3;       // the pluck's force pulse (raised cosine) lasts this long
+    double pluckForceNewtons = 2.0;     // its peak force at velocity 1
+};
+
+class Voice
+{
+public:
+    explicit Voice(const VoiceConfig& config);  // OFF
+
+    int modes() const { return solver_.modeCount(); }
+    int activeModes() const { return solver_.activeModeCount(); }
+    int contactPoints() const { return solver_.contactCount(); }
+    int oversampling() const { return oversampling_; }
+    double internalRateHz() const { return oversampling_ * hostRate_; }
+    int latencySamples() const { return decimator_.latencyHostSamples(); }  // host samples
+
+    // OFF: the string at rest in the triangular shape of the given amplitude at x (the scene's
+    // pluck), as the reference starts.
+    void setInitialShape(double position, double amplitudeMetres);
+
+    void pluck(double velocity);  // RT: a force pulse at the excitation point; works while sounding
+    void release();               // RT: note-off, the string rings down over releaseSeconds
+    void unrelease();             // RT: back to the string's own damping (a new note)
+    void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
+    void takeStateFrom(Voice& other);           // RT: same string and modes, new obstacles/contact
+
+    // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
+    // since the last call.
+    int takeMaxIterations();
+    double takeMaxPenetration();
+    ModalSolver& solver() { return solver_; }
+
+private:
+    double nextInternalSample();
+
+    ModalSolver solver_;
+    Decimator decimator_;
+    int oversampling_ = 1;
+    double hostRate_ = 48000.0;
+    PickupQuantity quantity_ = PickupQuantity::displacement;
+    double dt_ = 0.0;
+    double lengthMetres_ = 1.0;
+    std::vector<double> block_;  // one host sample's internal samples
+    double y_ = 0.0, yPrevious_ = 0.0;
+    bool first_ = true;
+    // Pluck pulse.
+    long pulseStep_ = 0;
+    long pulseSteps_ = 0;
+    double pulsePeak_ = 0.0;
+    double pluckForce_ = 0.0;
+    int maxIterations_ = 0;
+    double maxPenetration_ = 0.0;
+};
+
+// The solver configuration of a voice: the modal table truncated to M, the pickup weights, the
+// excitation point, and the contact points (point obstacles at their positions, distributed ones
+// sampled on the grid x_i = i L/(M+1) of the truncated modes, which is the reference grid when
+// M = N - 1). OFF.
+ModalSolverConfig voiceSolverConfig(const VoiceConfig& config);
+
+}  // namespace jawari
