@@ -54,7 +54,8 @@ public:
     ModalSolver& operator=(const ModalSolver&) = delete;
 
     // OFF/CT: modal displacements at t = 0 with zero velocity; q^{-1} is set from each mode's
-    // exact free motion, so without contact the run is the analytic solution.
+    // exact free motion, so without contact the run is the analytic solution (modes damped by
+    // more than e^0.5 per step start with q^{-1} = q(+dt) instead, see the .cpp).
     void setInitialDisplacement(const std::vector<double>& modalDisplacement);
     // OFF/CT: an explicit state pair (q^n, q^{n-1}).
     void setState(const std::vector<double>& current, const std::vector<double>& previous);

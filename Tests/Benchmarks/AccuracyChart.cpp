@@ -1,0 +1,76 @@
+// Speed against accuracy (DESIGN.md section 4): every configuration's output against the
+// reference solver's for the same scene, both at 48 kHz and low-passed at 20 kHz:
+//   relL2 over 0-100 ms, LSD over 0-1 s (STFT 2048, bins to 20 kHz, floor 80 dB below the
+//   reference's peak), and the real-time factor (simulated seconds per CPU second, one core),
+// measured side by side in one run. Writes CSV to stdout (or the file given).
+//
+//   jawari-accuracy [out.csv] [--quick]
+
+#include "Analysis.h"
+#include "OfflineRender.h"
+#include "Quality.h"
+#include "Scene.h"
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace jawari;
+
+int main(int argc, char** argv)
+{
+    const char* outPath = nullptr;
+    bool quick = false;
+    for (int i = 1; i < argc; ++i)
+    {
+        if (std::strcmp(argv[i], "--quick") == 0)
+            quick = true;
+        else
+            outPath = argv[i];
+    }
+    FILE* out = outPath ? std::fopen(outPath, "w") : stdout;
+    if (out == nullptr)
+    {
+        std::fprintf(stderr, "cannot write %s\n", outPath);
+        return 1;
+    }
+    std::fprintf(out, "scene,method,modes,rate_hz,active_modes,rel_l2_100ms,lsd_db_1s,realtime_factor,newton_max\n");
+
+    struct Config
+    {
+        int modes;
+        int oversampling;
+    };
+    std::vector<Config> configs;
+    for (int M : quick ? std::vector<int>{100, 200} : std::vector<int>{50, 100, 150, 200, 300, 500, 1001})
+        for (int os : quick ? std::vector<int>{8} : std::vector<int>{4, 8, 16, 32})
+            configs.push_back({M, os});
+
+    for (const char* name : {"paper-centre", "paper-tanpura"})
+    {
+        const auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
+        const auto reference = renderScene(base);
+        const auto ref = lowpass(reference.output, 48000, 20000);
+        std::fprintf(out, "%s,reference,%d,%.0f,%d,0,0,%.4g,%d\n", name, reference.stats.modes, reference.stats.internalRateHz,
+                     reference.stats.activeModes, base.simulation.durationSeconds / reference.stats.cpuSeconds,
+                     reference.stats.newtonIterationsMax);
+        std::fflush(out);
+        for (const auto& c : configs)
+        {
+            auto scene = base;
+            scene.simulation.method = Method::realtime;
+            scene.simulation.modes = c.modes;
+            scene.simulation.rateHz = double(c.oversampling) * scene.simulation.outputRateHz;
+            const auto r = renderScene(scene);
+            const auto y = lowpass(r.output, 48000, 20000);
+            std::fprintf(out, "%s,realtime,%d,%.0f,%d,%.4g,%.4g,%.4g,%d\n", name, c.modes, r.stats.internalRateHz,
+                         r.stats.activeModes, relativeL2(y, ref, 4800), logSpectralDistance(y, ref, 48000),
+                         scene.simulation.durationSeconds / r.stats.cpuSeconds, r.stats.newtonIterationsMax);
+            std::fflush(out);
+        }
+    }
+    if (outPath)
+        std::fclose(out);
+    return 0;
+}

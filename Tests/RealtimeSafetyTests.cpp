@@ -1,0 +1,137 @@
+// The audio thread never allocates: every allocation made while a test holds the guard is counted
+// (global operator new replaced in this test binary only).
+
+#include "Scene.h"
+#include "TestSupport.h"
+#include "Voice.h"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace
+{
+std::atomic<bool> counting{false};
+std::atomic<long> allocations{0};
+
+struct CountAllocations
+{
+    CountAllocations()
+    {
+        allocations = 0;
+        counting = true;
+    }
+    ~CountAllocations() { counting = false; }
+};
+}  // namespace
+
+void* operator new(std::size_t size)
+{
+    if (counting)
+        ++allocations;
+    if (void* p = std::malloc(size == 0 ? 1 : size))
+        return p;
+    throw std::bad_alloc();
+}
+void* operator new[](std::size_t size)
+{
+    return operator new(size);
+}
+void* operator new(std::size_t size, std::align_val_t alignment)
+{
+    if (counting)
+        ++allocations;
+    if (void* p = std::aligned_alloc(static_cast<std::size_t>(alignment), (size + static_cast<std::size_t>(alignment) - 1)
+                                                                               / static_cast<std::size_t>(alignment)
+                                                                               * static_cast<std::size_t>(alignment)))
+        return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept
+{
+    std::free(p);
+}
+void operator delete[](void* p) noexcept
+{
+    std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept
+{
+    std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept
+{
+    std::free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept
+{
+    std::free(p);
+}
+
+using namespace jawari;
+
+TEST_CASE("the allocation counter sees allocations")
+{
+    long seen = 0;
+    {
+        CountAllocations guard;
+        auto* v = new std::vector<double>(100);
+        delete v;
+        seen = allocations;
+    }
+    CHECK(seen == 2);
+}
+
+TEST_CASE("Voice::process, pluck, release and takeStateFrom never allocate")
+{
+    // Every contact path the voice can take: one point (paired), a sampled profile (decoupled
+    // scalar solves), and two close off-grid points (the coupled P x P Newton with Eigen's LU).
+    std::vector<std::vector<Obstacle>> sets(3);
+    sets[0] = {test::pointObstacle(0.006)};
+    Obstacle profile;
+    profile.type = ObstacleType::profile;
+    profile.profileX = {0.0, 0.01, 0.02};
+    profile.profileHeight = {-2e-5, 0.0, -2e-5};
+    sets[1] = {profile};
+    sets[2] = {test::pointObstacle(0.30017, -2e-5, 2e-3, 1e11, 1.5), test::pointObstacle(0.30391, -2e-5, 2e-3, 1e11, 1.5)};
+    for (const auto& obstacles : sets)
+    {
+        VoiceConfig config;
+        config.obstacles = obstacles;
+        config.modes = 150;
+        config.oversampling = 8;
+        Voice voice(config);
+        config.obstacles = sets[0];
+        Voice other(config);  // built off the audio thread, as a new obstacle would be
+        std::vector<double> block(256);
+        long counted = 0;
+        int maxIterations = 0;
+        {
+            CountAllocations guard;
+            voice.pluck(1.0);
+            for (int b = 0; b < 200; ++b)
+            {
+                voice.process(block.data(), 256);
+                maxIterations = std::max(maxIterations, voice.takeMaxIterations());
+                if (b == 50)
+                    voice.pluck(0.7);  // again while sounding
+                if (b == 120)
+                    voice.release();
+                if (b == 150)
+                {
+                    voice.unrelease();
+                    other.takeStateFrom(voice);
+                    other.process(block.data(), 256);
+                }
+            }
+            counted = allocations;
+        }
+        INFO(voice.contactPoints() << " contact points, most Newton iterations " << maxIterations);
+        CHECK(counted == 0);
+        CHECK(maxIterations > 0);  // the contact was exercised
+        for (double v : block)
+            REQUIRE(std::isfinite(v));
+    }
+}

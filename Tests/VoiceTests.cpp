@@ -1,0 +1,121 @@
+// The real-time voice (issue 3): equal to the reference in the reference's configuration, bounded
+// from any start, and its note-off.
+
+#include "Analysis.h"
+#include "OfflineRender.h"
+#include "Quality.h"
+#include "TestSupport.h"
+#include "Voice.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jawari;
+
+namespace
+{
+VoiceConfig voiceFor(const Scene& scene, int modes, int oversampling, double hostRate)
+{
+    VoiceConfig v;
+    v.string = scene.string;
+    v.obstacles = scene.obstacles;
+    v.excitationPosition = scene.excitation.position;
+    v.pickupPosition = scene.pickup.position;
+    v.modes = modes;
+    v.oversampling = oversampling;
+    v.hostRateHz = hostRate;
+    return v;
+}
+}  // namespace
+
+TEST_CASE("the voice equals the reference with M = N - 1, contact on the grid, equal rates, no decimation")
+{
+    for (const char* name : {"paper-centre.json", "paper-tanpura.json"})
+    {
+        auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
+        const int M = 400;
+        const double rate = 480000.0;
+        scene.simulation.modes = M;
+        scene.simulation.rateHz = rate;
+        const long long steps = 24000;
+        const auto reference = renderInternal(scene, steps);
+
+        Voice voice(voiceFor(scene, M, 1, rate));
+        REQUIRE(voice.latencySamples() == 0);
+        voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
+        std::vector<double> y(steps);
+        voice.process(y.data(), static_cast<int>(steps));
+        double worst = 0.0, peak = 0.0;
+        for (long long n = 0; n < steps; ++n)
+        {
+            worst = std::max(worst, std::abs(y[n] - reference[n]));
+            peak = std::max(peak, std::abs(reference[n]));
+        }
+        INFO(name << ": max |voice - reference| / peak = " << worst / peak);
+        CHECK(worst / peak < 1e-12);
+    }
+}
+
+TEST_CASE("the voice starts bounded when its grid is finer than its rate (M = 1001 at 192 kHz)")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    scene.simulation.durationSeconds = 0.2;
+    RenderOptions options;
+    options.logEnergy = true;
+    const auto reference = renderScene(scene, options);
+    scene.simulation.method = Method::realtime;
+    scene.simulation.modes = 1001;
+    scene.simulation.rateHz = 192000.0;
+    const auto voice = renderScene(scene, options);
+    double peak = 0.0;
+    for (double v : voice.output)
+        peak = std::max(peak, std::abs(v));
+    INFO("H(0): reference " << reference.energy.front().energy << " J, voice " << voice.energy.front().energy << " J; peak "
+                            << peak);
+    CHECK(voice.energy.front().energy < 1.01 * reference.energy.front().energy);
+    CHECK(peak < 1e-4);
+    for (size_t i = 1; i < voice.energy.size(); ++i)
+        REQUIRE(voice.energy[i].energy <= voice.energy[i - 1].energy * (1.0 + 1e-12));
+}
+
+TEST_CASE("note-off rings the string down by 60 dB in its release time and a new pluck sounds again")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    auto config = voiceFor(scene, 200, 8, 48000.0);
+    config.releaseSeconds = 0.2;
+    Voice voice(config);
+    voice.pluck(1.0);
+    std::vector<double> block(9600);
+    voice.process(block.data(), 4800);  // 100 ms sounding
+    const double before = voice.solver().energy().total;
+    REQUIRE(before > 0.0);
+    voice.release();
+    voice.process(block.data(), 9600);  // 200 ms released
+    const double after = voice.solver().energy().total;
+    INFO("energy at note-off " << before << " J, 200 ms later " << after << " J");
+    // Amplitude down 60 dB is energy down 120 dB (1e-12); allow for the string's own losses.
+    CHECK(after < 1e-6 * before);
+    voice.unrelease();
+    voice.pluck(0.5);
+    voice.process(block.data(), 4800);
+    const double replucked = voice.solver().energy().total;
+    CHECK(replucked > 1e3 * after);
+    for (double v : block)
+        REQUIRE(std::isfinite(v));
+}
+
+TEST_CASE("the automatic quality gives the standard setting's modes and rate for the paper string")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    scene.simulation.method = Method::realtime;
+    scene.simulation.modes.reset();
+    scene.simulation.rateHz.reset();
+    const auto q = automaticQuality(scene);
+    // f_p = p f0 sqrt(1 + B p^2) <= 48 kHz: p = 190 (47.7 kHz), 191 would be 48.1 kHz.
+    CHECK(q.modes == 190);
+    CHECK(q.oversampling == 8);
+    const auto r = renderScene([&] { auto s = scene; s.simulation.durationSeconds = 0.05; return s; }());
+    CHECK(r.stats.modes == 190);
+    CHECK(r.stats.internalRateHz == 384000.0);
+}
