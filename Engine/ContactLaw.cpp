@@ -42,13 +42,14 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double sAlpha, double r)
         // In contact at both ends: psi^{n+1} - psi^{n-1} = K/beta s^beta expm1(beta log1p(-r/s)),
         // free of cancellation; (s - r)^alpha = s^alpha exp(alpha log1p(-r/s)) from the same log.
         const double x = r / s;
-        const double l = std::log1p(-x);
-        out.value = K / beta * sAlpha * s * std::expm1(beta * l) / r;
+        const double E = std::expm1(beta * std::log1p(-x));  // (1 - x)^beta - 1
+        out.value = K / beta * sAlpha * s * E / r;
         if (std::abs(x) < 1e-3)
             // dG/dr = K s^(alpha-1) [(beta-1)/2 - (beta-1)(beta-2)/3 x + O(x^2)]
             out.derivative = K * sAlpha / s * ((beta - 1.0) / 2.0 - (beta - 1.0) * (beta - 2.0) / 3.0 * x);
         else
-            out.derivative = (-K * sAlpha * std::exp(alpha * l) - out.value) / r;
+            // (s - r)^alpha = s^alpha (1 - x)^beta / (1 - x), from the same expm1.
+            out.derivative = (-K * sAlpha * (1.0 + E) / (1.0 - x) - out.value) / r;
         return out;
     }
     // At most one end in contact: one potential is zero, nothing cancels.
@@ -116,9 +117,9 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         if (std::abs(e) < 1e-3)
             return {beta * sAlpha * (1.0 + (beta - 1.0) / 2.0 * e + (beta - 1.0) * (beta - 2.0) / 6.0 * e * e),
                     beta * sAlpha / s * ((beta - 1.0) / 2.0 + (beta - 1.0) * (beta - 2.0) / 3.0 * e)};
-        const double l = std::log1p(e);
-        const double D = sAlpha * s * std::expm1(beta * l) / (p - s);
-        return {D, (beta * sAlpha * std::exp(alpha * l) - D) / (p - s)};
+        const double E = std::expm1(beta * std::log1p(e));  // (p/s)^beta - 1
+        const double D = sAlpha * s * E / (p - s);
+        return {D, (beta * sAlpha * (1.0 + E) / (1.0 + e) - D) / (p - s)};
     };
 
     // Fast path: at a high rate the previous steps' extrapolated r is close to the root, where

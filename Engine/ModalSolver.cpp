@@ -172,6 +172,23 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
                 A(i, j) = forceScale_ * contacts_[j].weight
                           * kernels::dot(&shapes_[size_t(i) * M_], &shapes_[size_t(j) * M_], M_);
     }
+    stringCoupling_ = A;
+    delta_.assign(P_, 0.0);
+    deltaPrev_.assign(P_, 0.0);
+    if (!config.contactCompliance.empty() && !useTransform)
+    {
+        if (config.contactCompliance.size() != size_t(P_) * P_)
+            throw std::invalid_argument("contact compliance must be P x P");
+        Eigen::MatrixXd C = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            config.contactCompliance.data(), P_, P_);
+        complianceW_ = C;
+        for (int j = 0; j < P_; ++j)
+            complianceW_.col(j) *= contacts_[j].weight;
+        complianceInverse_ = C.inverse();
+        // The contact sees the true displacement change R = r + delta^{n+1} - delta^{n-1}
+        //   = (b - delta^{n-1}) + (A + C W) f: the same equation with A + C W.
+        A += complianceW_;
+    }
     system_.prepare(contacts_, std::move(A));
     setState(std::vector<double>(M_, 0.0), std::vector<double>(M_, 0.0));
 }
@@ -258,6 +275,8 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
         throw std::invalid_argument("modal state has the wrong number of modes");
     compact(current, previous);
     system_.reset();
+    std::fill(delta_.begin(), delta_.end(), 0.0);
+    std::fill(deltaPrev_.begin(), deltaPrev_.end(), 0.0);
     projectActive(q_, uC_.data());
     projectActive(qPrev_, uCPrev_.data());
     pickup_ = kernels::dot(h_, q_, Ma_);
@@ -347,6 +366,8 @@ void ModalSolver::copyStateFrom(ModalSolver& other)
         qPrev_[i] = k >= 0 ? other.qPrev_[k] : 0.0;
     }
     system_.reset();
+    std::fill(delta_.begin(), delta_.end(), 0.0);
+    std::fill(deltaPrev_.begin(), deltaPrev_.end(), 0.0);
     projectActive(q_, uC_.data());
     projectActive(qPrev_, uCPrev_.data());
     pickup_ = kernels::dot(h_, q_, Ma_);
@@ -354,14 +375,29 @@ void ModalSolver::copyStateFrom(ModalSolver& other)
 
 double ModalSolver::solveOnePoint(double uTilde)
 {
-    s_[0] = contacts_[0].height - uCPrev_[0];
-    b_[0] = uTilde - uCPrev_[0];
+    s_[0] = contacts_[0].height - uCPrev_[0] - deltaPrev_[0];
+    b_[0] = uTilde - uCPrev_[0] - deltaPrev_[0];
     lastIterations_ = system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
     // u_C^{n+1} = u~ + A f with f = -G.
     uCPrev_[0] = uC_[0];
-    uC_[0] = uTilde - system_.coupling()(0, 0) * slope_[0];
-    lastPenetration_ = contacts_[0].height - uC_[0];
+    uC_[0] = uTilde - stringCoupling_(0, 0) * slope_[0];
+    advanceCompliance();
+    lastPenetration_ = contacts_[0].height - uC_[0] - delta_[0];
     return slope_[0];
+}
+
+void ModalSolver::advanceCompliance()
+{
+    if (complianceW_.size() == 0)
+        return;
+    for (int j = 0; j < P_; ++j)
+    {
+        double d = 0.0;
+        for (int i = 0; i < P_; ++i)
+            d -= complianceW_(j, i) * slope_[i];
+        deltaPrev_[j] = delta_[j];
+        delta_[j] = d;
+    }
 }
 
 void ModalSolver::stepPaired()
@@ -428,8 +464,8 @@ void ModalSolver::stepSingle()
     {
         for (int j = 0; j < P_; ++j)
         {
-            s_[j] = contacts_[j].height - uCPrev_[j];
-            b_[j] = uTilde_[j] - uCPrev_[j];
+            s_[j] = contacts_[j].height - uCPrev_[j] - deltaPrev_[j];
+            b_[j] = uTilde_[j] - uCPrev_[j] - deltaPrev_[j];
         }
         lastIterations_ = system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
         for (int j = 0; j < P_; ++j)
@@ -454,7 +490,7 @@ void ModalSolver::stepSingle()
             for (int j = 0; j < P_; ++j)
                 if (slope_[j] != 0.0)
                     kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], phi_ + size_t(j) * stride_, next, Mpad_);
-        const auto& A = system_.coupling();
+        const auto& A = stringCoupling_;
         for (int j = 0; j < P_; ++j)
         {
             double Af = 0.0;
@@ -465,12 +501,14 @@ void ModalSolver::stepSingle()
         }
     }
 
+    if (P_ > 0)
+        advanceCompliance();
     lastPenetration_ = -std::numeric_limits<double>::infinity();
     for (int j = 0; j < P_; ++j)
     {
         uCPrev_[j] = uC_[j];
         uC_[j] = uTilde_[j];
-        lastPenetration_ = std::max(lastPenetration_, contacts_[j].height - uC_[j]);
+        lastPenetration_ = std::max(lastPenetration_, contacts_[j].height - uC_[j] - delta_[j]);
     }
     std::swap(q_, qPrev_);
     pickup_ = y;
@@ -586,8 +624,14 @@ ModalSolver::Energy ModalSolver::energy()
     projectActive(previous.data(), uPrev.data());
     for (int j = 0; j < P_; ++j)
         out.contact += contacts_[j].weight * 0.5
-                       * (contactPotential(contacts_[j].law, contacts_[j].height - u[j])
-                          + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j]));
+                       * (contactPotential(contacts_[j].law, contacts_[j].height - u[j] - delta_[j])
+                          + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j] - deltaPrev_[j]));
+    if (complianceW_.size() != 0)
+    {
+        // The dropped modes' static spring: (delta^T C^{-1} delta at n and n-1) / 2, averaged.
+        const Eigen::Map<const Eigen::VectorXd> d(delta_.data(), P_), dPrev(deltaPrev_.data(), P_);
+        out.contact += 0.25 * (d.dot(complianceInverse_ * d) + dPrev.dot(complianceInverse_ * dPrev));
+    }
     double sum = 0.0;
     const auto& coefficients = released_ ? activeCoeffsReleased_ : activeCoeffs_;
     for (int i = 0; i < Ma_; ++i)

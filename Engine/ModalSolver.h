@@ -43,6 +43,13 @@ struct ModalSolverConfig
     std::optional<double> excitationPosition;
     // Extra damping (1/s, every mode) of the second coefficient set, selected by setReleased().
     double releaseSigma = 0.0;
+    // Residual compliance (DESIGN.md section 5), P x P row-major, m/N: C_ij = sum over the dropped
+    // modes of phi_p(x_i) phi_p(x_j) / (mu w_p^2), the static deflection at i per newton at j. When
+    // given (projection path), the dropped modes' quasi-static deflection delta = C W f sits in
+    // series with the contact: the contact sees u + delta, and delta^{n+1} = C W f^n (backward
+    // Euler on the massless spring: the energy H, spring included, can only decrease, by exactly
+    // (delta^{n+1} - delta^{n-1})^T C^{-1} (delta^{n+1} - delta^{n-1}) / 4 a step).
+    std::vector<double> contactCompliance;
 };
 
 class ModalSolver
@@ -180,6 +187,11 @@ private:
     std::vector<double> contactPhiE_;      // (dt^2/mu) phi_j . phi_e
 
     std::vector<double> pickupPhiW_;  // (dt^2/mu) w_j (h . phi_j)
+    Eigen::MatrixXd stringCoupling_;  // A = (dt^2/mu) Phi Phi^T W: the string's response at the points
+    Eigen::MatrixXd complianceW_;     // C W (empty without residual compliance)
+    Eigen::MatrixXd complianceInverse_;
+    std::vector<double> delta_, deltaPrev_;  // quasi-static deflection of the dropped modes, n and n-1
+    void advanceCompliance();                // delta^{n+1} = C W f from slope_
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_;
     std::vector<ContactPoint> contacts_;
     ContactSystem system_;

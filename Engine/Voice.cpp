@@ -18,6 +18,26 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     c.timeStep = 1.0 / (config.oversampling * config.hostRateHz);
     c.modes = buildModalTable(s, M);
     c.contacts = contactPointsOnGrid(config.obstacles, L, M + 1);
+    if (config.residualCompliance && !c.contacts.empty())
+    {
+        // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is
+        // below 1e-5 of the whole even for a flexible string (terms ~ 1/p^2; ~1/p^4 when stiff).
+        const int P = static_cast<int>(c.contacts.size());
+        const int last = M + 50000;
+        const auto dropped = buildModalTable(s, last);
+        c.contactCompliance.assign(size_t(P) * P, 0.0);
+        std::vector<double> shape(P);
+        for (int p = M + 1; p <= last; ++p)
+        {
+            const double w = dropped.omega[p - 1];
+            const double inverseStiffness = 1.0 / (s.linearDensity * w * w);
+            for (int i = 0; i < P; ++i)
+                shape[i] = modeShape(L, p, c.contacts[i].position);
+            for (int i = 0; i < P; ++i)
+                for (int j = 0; j < P; ++j)
+                    c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
+        }
+    }
     c.path = ContactPath::projection;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;

@@ -30,6 +30,9 @@ struct VoiceConfig
     double releaseSeconds = 0.25;       // note-off: every mode gains damping ln(1000)/releaseSeconds
     double pluckSeconds = 1.5e-3;       // the pluck's force pulse (raised cosine) lasts this long
     double pluckForceNewtons = 2.0;     // its peak force at velocity 1
+    // The dropped modes' static compliance in series with the contact (DESIGN.md section 5). Off,
+    // the voice is plain truncation (and equals the reference when M = N - 1).
+    bool residualCompliance = true;
 };
 
 class Voice
