@@ -189,6 +189,12 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
         //   = (b - delta^{n-1}) + (A + C W) f: the same equation with A + C W.
         A += complianceW_;
     }
+    method_ = config.method;
+    pointCoupling_ = A;
+    for (int j = 0; j < P_; ++j)
+        pointCoupling_.col(j) /= contacts_[j].weight;
+    savGradient_.assign(P_, 0.0);
+    savResponse_.assign(P_, 0.0);
     system_.prepare(contacts_, std::move(A));
     setState(std::vector<double>(M_, 0.0), std::vector<double>(M_, 0.0));
 }
@@ -280,6 +286,14 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
     projectActive(q_, uC_.data());
     projectActive(qPrev_, uCPrev_.data());
     pickup_ = kernels::dot(h_, q_, Ma_);
+    xi_ = xiPrev_ = 0.0;
+    for (int j = 0; j < P_; ++j)
+    {
+        xi_ += contacts_[j].weight * contactPotential(contacts_[j].law, contacts_[j].height - uC_[j]);
+        xiPrev_ += contacts_[j].weight * contactPotential(contacts_[j].law, contacts_[j].height - uCPrev_[j]);
+    }
+    xi_ = std::sqrt(2.0 * xi_);
+    xiPrev_ = std::sqrt(2.0 * xiPrev_);
 }
 
 void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplacement)
@@ -354,6 +368,54 @@ void ModalSolver::setReleased(bool released)
     e_ = released ? eReleased_ : eNormal_;
 }
 
+double ModalSolver::stringEnergy() const
+{
+    const auto& coefficients = released_ ? activeCoeffsReleased_ : activeCoeffs_;
+    const double* phi = P_ == 1 ? phi_ : nullptr;
+    double sum = 0.0;
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const double ph = phi != nullptr ? phi[i] : 0.0;
+        double now = q_[i], before = qPrev_[i];
+        if (layout_ == Layout::pairMiddle)
+        {
+            now = qPrev_[i] + c1_ * ph;
+            before = settled_[i];
+        }
+        else if (layout_ == Layout::pairBoundary)
+        {
+            now = q_[i] + (c1_ * a_[i] + c2_) * ph;
+            before = qPrev_[i] + c1_ * ph;
+        }
+        const double v = (now - before) / dt_;
+        sum += coefficients[i].kineticWeight * v * v + coefficients[i].potentialWeight * now * before;
+    }
+    return 0.5 * mu_ * sum;
+}
+
+double ModalSolver::pickupCompliance() const
+{
+    double sum = 0.0;
+    for (int p = 0; p < M_; ++p)
+        sum += pickupWeights_[p] * pickupWeights_[p] / (mu_ * omega_[p] * omega_[p]);
+    return sum;
+}
+
+void ModalSolver::resetToRest()
+{
+    std::fill(q_, q_ + Mpad_, 0.0);
+    std::fill(qPrev_, qPrev_ + Mpad_, 0.0);
+    std::fill(settled_, settled_ + Mpad_, 0.0);
+    layout_ = Layout::single;
+    c1_ = c2_ = 0.0;
+    externalForce_ = 0.0;
+    system_.reset();
+    for (auto* v : {&uC_, &uCPrev_, &delta_, &deltaPrev_})
+        std::fill(v->begin(), v->end(), 0.0);
+    xi_ = xiPrev_ = 0.0;
+    pickup_ = pickupTilde_ = 0.0;
+}
+
 void ModalSolver::copyStateFrom(ModalSolver& other)
 {
     other.toSingle();
@@ -377,13 +439,89 @@ double ModalSolver::solveOnePoint(double uTilde)
 {
     s_[0] = contacts_[0].height - uCPrev_[0] - deltaPrev_[0];
     b_[0] = uTilde - uCPrev_[0] - deltaPrev_[0];
-    lastIterations_ = system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+    lastIterations_ = solveContacts();
     // u_C^{n+1} = u~ + A f with f = -G.
     uCPrev_[0] = uC_[0];
     uC_[0] = uTilde - stringCoupling_(0, 0) * slope_[0];
     advanceCompliance();
     lastPenetration_ = contacts_[0].height - uC_[0] - delta_[0];
     return slope_[0];
+}
+
+int ModalSolver::solveContacts()
+{
+    switch (method_)
+    {
+        case ContactMethod::energyConserving:
+            return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+        case ContactMethod::penalty:
+            // f^n = K [g - u^n]_+^alpha, explicit.
+            for (int j = 0; j < P_; ++j)
+            {
+                const double penetration = contacts_[j].height - uC_[j] - delta_[j];
+                slope_[j] = penetration > 0.0 ? -contacts_[j].law.stiffness * std::pow(penetration, contacts_[j].law.exponent)
+                                              : 0.0;
+            }
+            return 0;
+        case ContactMethod::quadratised: return solveQuadratised();
+    }
+    return 0;
+}
+
+int ModalSolver::solveQuadratised()
+{
+    // Energy quadratisation (Ducceschi & Bilbao 2019): V(u) = sum_j w_j psi_j(u_j) = xi^2 / 2 with
+    // xi carried as a state. With g = dV/du / sqrt(2 V) at u^n, the point forces are
+    //   F = -g (xi^{n+1} + xi^{n-1}) / 2,   xi^{n+1} = xi^{n-1} + g . R,
+    // and R = b + B F (B = A' W^{-1}), so (I + B g g^T / 2) R = b - B g xi^{n-1}: one rank-one
+    // solve (Sherman-Morrison), no iteration. The quadratised energy is conserved exactly.
+    double V = 0.0;
+    bool touching = false;
+    for (int j = 0; j < P_; ++j)
+    {
+        const double penetration = contacts_[j].height - uC_[j] - delta_[j];
+        const auto& law = contacts_[j].law;
+        if (penetration > 0.0)
+        {
+            touching = true;
+            V += contacts_[j].weight * contactPotential(law, penetration);
+            savGradient_[j] = -contacts_[j].weight * law.stiffness * std::pow(penetration, law.exponent);
+        }
+        else
+            savGradient_[j] = 0.0;
+    }
+    if (!touching || V <= 0.0)
+    {
+        std::fill(slope_.begin(), slope_.end(), 0.0);
+        const double xiNext = xiPrev_;  // g = 0: xi^{n+1} = xi^{n-1}
+        xiPrev_ = xi_;
+        xi_ = xiNext;
+        return 0;
+    }
+    const double root = std::sqrt(2.0 * V);
+    double gDotB = 0.0, gDotV = 0.0;
+    for (int j = 0; j < P_; ++j)
+        savGradient_[j] /= root;
+    for (int i = 0; i < P_; ++i)
+    {
+        double v = 0.0;
+        for (int j = 0; j < P_; ++j)
+            v += pointCoupling_(i, j) * savGradient_[j];
+        savResponse_[i] = v;  // B g
+    }
+    for (int j = 0; j < P_; ++j)
+    {
+        gDotB += savGradient_[j] * (b_[j] - savResponse_[j] * xiPrev_);
+        gDotV += savGradient_[j] * savResponse_[j];
+    }
+    const double gDotR = gDotB / (1.0 + 0.5 * gDotV);  // g . R from Sherman-Morrison
+    const double mean = xiPrev_ + 0.5 * gDotR;          // (xi^{n+1} + xi^{n-1}) / 2
+    for (int j = 0; j < P_; ++j)
+        slope_[j] = savGradient_[j] * mean / contacts_[j].weight;  // f = F / w = -g mean / w; G = -f
+    const double xiNext = xiPrev_ + gDotR;
+    xiPrev_ = xi_;
+    xi_ = xiNext;
+    return 0;
 }
 
 void ModalSolver::advanceCompliance()
@@ -467,7 +605,7 @@ void ModalSolver::stepSingle()
             s_[j] = contacts_[j].height - uCPrev_[j] - deltaPrev_[j];
             b_[j] = uTilde_[j] - uCPrev_[j] - deltaPrev_[j];
         }
-        lastIterations_ = system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+        lastIterations_ = solveContacts();
         for (int j = 0; j < P_; ++j)
             anyForce = anyForce || slope_[j] != 0.0;
     }
@@ -626,6 +764,8 @@ ModalSolver::Energy ModalSolver::energy()
         out.contact += contacts_[j].weight * 0.5
                        * (contactPotential(contacts_[j].law, contacts_[j].height - u[j] - delta_[j])
                           + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j] - deltaPrev_[j]));
+    if (method_ == ContactMethod::quadratised)
+        out.contact = 0.25 * (xi_ * xi_ + xiPrev_ * xiPrev_);  // the quadratised contact energy, V = xi^2/2
     if (complianceW_.size() != 0)
     {
         // The dropped modes' static spring: (delta^T C^{-1} delta at n and n-1) / 2, averaged.

@@ -30,6 +30,14 @@ enum class ContactPath
     transform    // the DST-I path (reference grid only)
 };
 
+// How the contact force of a step is found (DESIGN.md section 4, the methods to chart):
+enum class ContactMethod
+{
+    energyConserving,  // the paper's discrete gradient, solved by Newton (the default)
+    quadratised,       // energy quadratisation (scalar auxiliary variable): one linear solve, no Newton
+    penalty            // explicit penalty force at u^n: cheap, unstable when K dt^2 is large
+};
+
 struct ModalSolverConfig
 {
     double lengthMetres = 1.002;
@@ -50,6 +58,7 @@ struct ModalSolverConfig
     // Euler on the massless spring: the energy H, spring included, can only decrease, by exactly
     // (delta^{n+1} - delta^{n-1})^T C^{-1} (delta^{n+1} - delta^{n-1}) / 4 a step).
     std::vector<double> contactCompliance;
+    ContactMethod method = ContactMethod::energyConserving;
 };
 
 class ModalSolver
@@ -76,6 +85,13 @@ public:
     // over unchanged, so the sound does not jump.
     void setReleased(bool released);
     bool released() const { return released_; }
+    // RT: the string part of H^{n-1/2} (no contact part), without allocating.
+    double stringEnergy() const;
+    // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H.
+    double pickupCompliance() const;
+
+    // RT: the string at rest at zero (after a blow-up), without touching the tables.
+    void resetToRest();
     // RT: take the string state of another solver of the same modes (a new obstacle or contact
     // model handed over from the control thread). No allocation.
     void copyStateFrom(ModalSolver& other);
@@ -192,6 +208,12 @@ private:
     Eigen::MatrixXd complianceInverse_;
     std::vector<double> delta_, deltaPrev_;  // quasi-static deflection of the dropped modes, n and n-1
     void advanceCompliance();                // delta^{n+1} = C W f from slope_
+    int solveContacts();                     // slope_ from s_, b_ by the configured method
+    int solveQuadratised();
+    ContactMethod method_ = ContactMethod::energyConserving;
+    Eigen::MatrixXd pointCoupling_;          // A' W^{-1}: response at the points per newton
+    std::vector<double> savGradient_, savResponse_;
+    double xi_ = 0.0, xiPrev_ = 0.0;         // quadratised contact: xi = sqrt(2 V)
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_;
     std::vector<ContactPoint> contacts_;
     ContactSystem system_;

@@ -107,6 +107,9 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     v.modes = q.modes;
     v.oversampling = q.oversampling;
     v.hostRateHz = scene.simulation.outputRateHz;
+    v.method = scene.simulation.method == Method::quadratised ? ContactMethod::quadratised
+               : scene.simulation.method == Method::penalty   ? ContactMethod::penalty
+                                                              : ContactMethod::energyConserving;
     return v;
 }
 
@@ -149,6 +152,10 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
     }
     stats.cpuSeconds = threadCpuSeconds() - start;
     stats.steps = static_cast<long long>(raw.size()) * voice.oversampling();
+    if (voice.blowUps() > 0)
+        throw std::runtime_error(std::string("the ") + methodName(scene.simulation.method) + " method lost stability ("
+                                 + std::to_string(voice.blowUps())
+                                 + " restarts from rest); try a higher rate, or the default method");
     result.output.assign(raw.begin() + static_cast<std::ptrdiff_t>(latency), raw.end());
     for (double v : result.output)
         if (!std::isfinite(v))
@@ -180,7 +187,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
 RenderResult renderScene(const Scene& scene, const RenderOptions& options)
 {
     validateScene(scene);
-    if (scene.simulation.method == Method::realtime)
+    if (runsVoice(scene.simulation.method))
         return renderRealtime(scene, options);
     auto setup = referenceSetup(scene, options.path);
     ModalSolver solver(setup.config);

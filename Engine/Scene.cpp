@@ -277,6 +277,8 @@ const char* methodName(Method m)
     {
         case Method::reference: return "reference";
         case Method::realtime: return "realtime";
+        case Method::quadratised: return "quadratised";
+        case Method::penalty: return "penalty";
     }
     return "reference";
 }
@@ -287,6 +289,10 @@ std::optional<Method> methodFromName(const std::string& name)
         return Method::reference;
     if (name == "realtime")
         return Method::realtime;
+    if (name == "quadratised")
+        return Method::quadratised;
+    if (name == "penalty")
+        return Method::penalty;
     return std::nullopt;
 }
 
@@ -327,14 +333,14 @@ void validateScene(const Scene& scene)
     if (sim.outputRateHz < 8000 || sim.outputRateHz > 384000)
         throw SceneError("simulation.output_rate", "must be between 8000 and 384000 Hz (got "
                                                        + std::to_string(sim.outputRateHz) + ")");
-    if (sim.method == Method::realtime && sim.rateHz)
+    if (runsVoice(sim.method) && sim.rateHz)
     {
         const double ratio = *sim.rateHz / sim.outputRateHz;
         if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1 || std::round(ratio) > 256)
-            throw SceneError("simulation.rate", "the realtime method runs at a whole multiple (1 to 256) of the output rate "
+            throw SceneError("simulation.rate", "the voice's methods run at a whole multiple (1 to 256) of the output rate "
                                                     + std::to_string(sim.outputRateHz) + " Hz (got " + show(*sim.rateHz) + " Hz)");
     }
-    const double rate = sim.rateHz.value_or(sim.method == Method::realtime ? sim.outputRateHz : kReferenceRateHz);
+    const double rate = sim.rateHz.value_or(runsVoice(sim.method) ? sim.outputRateHz : kReferenceRateHz);
     if (rate < sim.outputRateHz)
         throw SceneError("simulation.rate", "the internal rate " + show(rate) + " Hz must be at least the output rate "
                                                 + std::to_string(sim.outputRateHz) + " Hz");
@@ -409,7 +415,7 @@ Scene parseScene(const std::string& jsonText)
     if (top.has("simulation"))
     {
         ObjectReader r(top.raw("simulation"), "simulation");
-        scene.simulation.method = *methodFromName(r.string("method", "reference", {"reference", "realtime"}));
+        scene.simulation.method = *methodFromName(r.string("method", "reference", {"reference", "realtime", "quadratised", "penalty"}));
         if (r.has("rate"))
             scene.simulation.rateHz = r.positive("rate", 0.0);
         if (const auto m = r.integer("modes"))

@@ -36,8 +36,10 @@ enum class PickupQuantity
 
 enum class Method
 {
-    reference,  // the paper's configuration: M = N - 1 modes on the grid, resampled to the output
-    realtime    // the plugin's voice: truncated modes, R = oversampling x output rate, decimated
+    reference,    // the paper's configuration: M = N - 1 modes on the grid, resampled to the output
+    realtime,     // the plugin's voice: truncated modes, R = oversampling x output rate, decimated
+    quadratised,  // the voice with the non-iterative energy-quadratised contact
+    penalty       // the voice with an explicit penalty force at u^n (unstable for stiff contact)
 };
 
 struct Excitation
@@ -82,6 +84,7 @@ Scene loadSceneFile(const std::string& path);
 void validateScene(const Scene& scene);
 
 const char* methodName(Method m);
+inline bool runsVoice(Method m) { return m != Method::reference; }
 std::optional<Method> methodFromName(const std::string& name);
 const char* quantityName(PickupQuantity q);
 const char* quantityUnit(PickupQuantity q);

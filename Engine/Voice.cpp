@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace jawari
@@ -39,6 +40,7 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         }
     }
     c.path = ContactPath::projection;
+    c.method = config.method;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
     c.pickupWeights.resize(M);
@@ -65,6 +67,8 @@ Voice::Voice(const VoiceConfig& config)
 {
     block_.assign(oversampling_, 0.0);
     lengthMetres_ = config.string.lengthMetres;
+    pickupCompliance_ = solver_.pickupCompliance();
+    runawayLimit_ = 0.0;
     pulseSteps_ = std::max<long>(1, std::lround(config.pluckSeconds / dt_));
     pluckForce_ = config.pluckForceNewtons;
     pulseStep_ = pulseSteps_;  // no pulse running
@@ -75,12 +79,24 @@ void Voice::setInitialShape(double position, double amplitudeMetres)
     solver_.setInitialDisplacement(pluckModalShape(lengthMetres_, solver_.modeCount(), position, amplitudeMetres));
     first_ = true;
     decimator_.reset();
+    raiseCeiling();
 }
 
 void Voice::pluck(double velocity)
 {
     pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_;
     pulseStep_ = 0;
+    runawayLimit_ = std::numeric_limits<double>::infinity();  // until the pulse is over (only NaN is caught)
+}
+
+void Voice::raiseCeiling()
+{
+    // For the displacement |u| <= sqrt(2 H G); velocity and force get the same margin on H through
+    // the pickup's own weights (h^2 / (mu w^2) already carries their units squared over J).
+    energyCeiling_ = std::max(energyCeiling_, solver_.stringEnergy());
+    runawayLimit_ = 4.0 * std::sqrt(2.0 * energyCeiling_ * pickupCompliance_);
+    if (quantity_ == PickupQuantity::velocity)
+        runawayLimit_ *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
 }
 
 void Voice::release()
@@ -107,6 +123,7 @@ double Voice::nextInternalSample()
     {
         solver_.setExternalForce(0.0);
         pulseStep_ = pulseSteps_;
+        raiseCeiling();
     }
     if (first_)
     {
@@ -135,6 +152,21 @@ void Voice::process(double* out, int numSamples)
         for (int i = 0; i < oversampling_; ++i)
             block_[i] = nextInternalSample();
         out[m] = decimator_.process(block_.data());
+        if (!(std::abs(out[m]) <= runawayLimit_))  // also catches NaN
+        {
+            // A method that lost stability (the penalty force, for one): no NaN and no blast
+            // reaches the speakers; the string restarts from rest.
+            ++blowUps_;
+            solver_.resetToRest();
+            decimator_.reset();
+            std::fill(block_.begin(), block_.end(), 0.0);
+            y_ = yPrevious_ = 0.0;
+            first_ = true;
+            pulseStep_ = pulseSteps_;
+            energyCeiling_ = 0.0;
+            runawayLimit_ = 0.0;
+            out[m] = 0.0;
+        }
     }
 }
 

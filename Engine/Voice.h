@@ -33,6 +33,7 @@ struct VoiceConfig
     // The dropped modes' static compliance in series with the contact (DESIGN.md section 5). Off,
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
+    ContactMethod method = ContactMethod::energyConserving;
 };
 
 class Voice
@@ -56,6 +57,12 @@ public:
     void unrelease();             // RT: back to the string's own damping (a new note)
     void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
     void takeStateFrom(Voice& other);           // RT: same string and modes, new obstacles/contact
+
+    // RT: how many times the voice found its output non-finite or running away and put the string
+    // back at rest, muting instead of sending it on. Running away: beyond 4 sqrt(2 H G), with G the
+    // static compliance seen by the pickup and H the most energy the string has legitimately had
+    // (measured after the initial shape and after each pluck pulse): no physical motion gets there.
+    long blowUps() const { return blowUps_; }
 
     // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
     // since the last call.
@@ -81,6 +88,11 @@ private:
     long pulseSteps_ = 0;
     double pulsePeak_ = 0.0;
     double pluckForce_ = 0.0;
+    long blowUps_ = 0;
+    double runawayLimit_ = 1.0;
+    double pickupCompliance_ = 0.0;
+    double energyCeiling_ = 0.0;
+    void raiseCeiling();
     int maxIterations_ = 0;
     double maxPenetration_ = 0.0;
 };

@@ -29,9 +29,10 @@ constexpr const char* usage = R"(jawari-render: render a jawari-scene/1 file to 
 usage: jawari-render SCENE.json -o OUT.wav [options]
 
   -o, --output FILE       the WAV file to write (required)
-  --method NAME           reference (the paper's configuration) or realtime (the plugin's voice:
-                          truncated modes, oversampled, decimated; modes and rate automatic
-                          unless given)
+  --method NAME           reference (the paper's configuration), or the plugin's voice (truncated
+                          modes, oversampled, decimated; modes and rate automatic unless given)
+                          with its contact solved by: realtime (energy-conserving Newton, the
+                          default), quadratised (non-iterative), penalty (explicit at u^n)
   --modes M               number of modes (reference: N - 1 = M grid nodes)
   --rate HZ               internal simulation rate in Hz
   --duration S            seconds to render
@@ -175,7 +176,7 @@ int run(int argc, char* argv[])
     {
         const auto m = jawari::methodFromName(method->toStdString());
         if (!m)
-            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference, realtime)");
+            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference, realtime, quadratised, penalty)");
         scene.simulation.method = *m;
     }
     if (modes)

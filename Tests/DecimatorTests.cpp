@@ -46,7 +46,7 @@ Measured run(Decimator& d, double hostRate, double f)
 }
 }  // namespace
 
-TEST_CASE("decimator: flat within 0.1 dB to 20 kHz, aliases at least 90 dB down, latency as stated")
+TEST_CASE("decimator is flat within 0.1 dB to 20 kHz with aliases at least 90 dB down and the stated latency")
 {
     for (double host : {44100.0, 48000.0, 96000.0})
         for (int factor : {2, 4, 8, 16, 64})

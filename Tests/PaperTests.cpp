@@ -45,7 +45,7 @@ TEST_CASE("paper-centre: the obstacle raises the fundamental by 4/3 (Cabannes 19
     CHECK(withObstacle / without == Approx(4.0 / 3.0).epsilon(0.003));
 }
 
-TEST_CASE("paper-tanpura: a descending formant, and faster energy decay than paper-centre")
+TEST_CASE("paper-tanpura has a descending formant and decays faster than paper-centre")
 {
     const auto& runs = paperRuns();
     const auto& y = runs.tanpura.output;
@@ -66,7 +66,7 @@ TEST_CASE("paper-tanpura: a descending formant, and faster energy decay than pap
     CHECK(tanpuraRatio < 0.5 * centreRatio);
 }
 
-TEST_CASE("the paper scenes are stable: finite output, bounded penetration, bounded Newton work")
+TEST_CASE("the paper scenes are stable with finite output and bounded penetration and Newton work")
 {
     const auto& runs = paperRuns();
     for (const auto* r : {&runs.centre, &runs.tanpura})

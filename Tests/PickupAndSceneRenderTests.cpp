@@ -24,7 +24,7 @@ Scene singleModeScene(PickupQuantity quantity)
 }
 }  // namespace
 
-TEST_CASE("pickup quantities: displacement, velocity and the force on the termination agree with one mode")
+TEST_CASE("pickup displacement and velocity and the force on the termination agree for one mode")
 {
     const double L = 1.002, x = 0.992, T = 180.5, B = 1.78e-5;
     const long long steps = 20000;
@@ -56,7 +56,7 @@ TEST_CASE("pickup quantities: displacement, velocity and the force on the termin
     CHECK(forcePeak > 0.0);
 }
 
-TEST_CASE("several obstacles at once: a point, a profile and a parabola share the string")
+TEST_CASE("several obstacles at once - a point and a profile and a parabola - share the string")
 {
     auto scene = parseScene(R"({"format": "jawari-scene/1",
         "obstacles": [
@@ -86,7 +86,7 @@ TEST_CASE("several obstacles at once: a point, a profile and a parabola share th
     CHECK(r.stats.maxPenetrationMetres < 1e-5);
 }
 
-TEST_CASE("the accuracy measures: relative L2, log-spectral distance and the 20 kHz low-pass")
+TEST_CASE("the accuracy measures relative L2 and log-spectral distance and the 20 kHz low-pass are right")
 {
     const double rate = 48000.0;
     std::vector<double> x(48000), y(48000), mix(48000);

@@ -84,7 +84,7 @@ TEST_CASE("the allocation counter sees allocations")
     CHECK(seen == 2);
 }
 
-TEST_CASE("Voice::process, pluck, release and takeStateFrom never allocate")
+TEST_CASE("Voice process and pluck and release and takeStateFrom never allocate")
 {
     // Every contact path the voice can take: one point (paired), a sampled profile (decoupled
     // scalar solves), and two close off-grid points (the coupled P x P Newton with Eigen's LU).

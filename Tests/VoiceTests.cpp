@@ -29,7 +29,7 @@ VoiceConfig voiceFor(const Scene& scene, int modes, int oversampling, double hos
 }
 }  // namespace
 
-TEST_CASE("the voice equals the reference with M = N - 1, contact on the grid, equal rates, no decimation")
+TEST_CASE("the voice equals the reference with M = N - 1 and the contact on the grid at equal rates without decimation")
 {
     for (const char* name : {"paper-centre.json", "paper-tanpura.json"})
     {
@@ -120,4 +120,81 @@ TEST_CASE("the automatic quality gives the standard setting's modes and rate for
     const auto r = renderScene([&] { auto s = scene; s.simulation.durationSeconds = 0.05; return s; }());
     CHECK(r.stats.modes == 190);
     CHECK(r.stats.internalRateHz == 384000.0);
+}
+
+TEST_CASE("the quadratised method conserves its own energy exactly without losses")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    scene.string.damping.law = DampingLaw::none;
+    auto config = voiceFor(scene, 200, 8, 48000.0);
+    config.method = ContactMethod::quadratised;
+    config.residualCompliance = false;
+    Voice voice(config);
+    voice.setInitialShape(0.501, 1.5e-3);
+    const double H0 = voice.solver().energy().total;
+    double worst = 0.0;
+    long contactSamples = 0;
+    std::vector<double> y(1);
+    for (int m = 0; m < 9600; ++m)
+    {
+        voice.process(y.data(), 1);
+        const auto H = voice.solver().energy();
+        contactSamples += H.contact > 0.0;
+        worst = std::max(worst, std::abs(H.total - H0) / H0);
+    }
+    INFO("relative drift " << worst << " over 200 ms, samples with contact energy " << contactSamples);
+    CHECK(contactSamples > 1000);
+    CHECK(worst < 1e-9);
+}
+
+TEST_CASE("with the residual compliance in series the energy only ever decreases (lossless string)")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    scene.string.damping.law = DampingLaw::none;
+    for (auto method : {ContactMethod::energyConserving, ContactMethod::quadratised})
+    {
+        auto config = voiceFor(scene, 150, 8, 48000.0);
+        config.method = method;
+        Voice voice(config);
+        voice.setInitialShape(0.501, 1.5e-3);
+        double previous = voice.solver().energy().total;
+        const double H0 = previous;
+        double worstIncrease = 0.0;
+        std::vector<double> y(1);
+        for (int m = 0; m < 9600; ++m)
+        {
+            voice.process(y.data(), 1);
+            const double H = voice.solver().energy().total;
+            worstIncrease = std::max(worstIncrease, (H - previous) / H0);
+            previous = H;
+        }
+        INFO("method " << int(method) << ": largest step increase " << worstIncrease << ", H(200 ms)/H(0) " << previous / H0);
+        CHECK(worstIncrease <= 1e-12);
+        CHECK(previous < H0);
+    }
+}
+
+TEST_CASE("every method gives finite output on the paper scenes and the penalty blow-ups are muted")
+{
+    for (const char* name : {"paper-centre.json", "paper-tanpura.json"})
+        for (auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty})
+        {
+            auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
+            auto config = voiceFor(scene, 190, 8, 48000.0);
+            config.method = method;
+            Voice voice(config);
+            voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
+            std::vector<double> y(24000);
+            voice.process(y.data(), 24000);
+            double peak = 0.0;
+            for (double v : y)
+            {
+                REQUIRE(std::isfinite(v));
+                peak = std::max(peak, std::abs(v));
+            }
+            INFO(name << " method " << int(method) << ": peak " << peak << ", blow-ups " << voice.blowUps());
+            CHECK(peak < 1e-3);
+            if (method != ContactMethod::penalty)
+                CHECK(voice.blowUps() == 0);
+        }
 }
