@@ -107,6 +107,7 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     v.modes = q.modes;
     v.oversampling = q.oversampling;
     v.hostRateHz = scene.simulation.outputRateHz;
+    v.residualCompliance = scene.simulation.residualCompliance;
     v.method = scene.simulation.method == Method::quadratised ? ContactMethod::quadratised
                : scene.simulation.method == Method::penalty   ? ContactMethod::penalty
                                                               : ContactMethod::energyConserving;

@@ -426,6 +426,13 @@ Scene parseScene(const std::string& jsonText)
             scene.simulation.modes = static_cast<int>(*m);
         }
         scene.simulation.durationSeconds = r.positive("duration", scene.simulation.durationSeconds);
+        if (r.has("residual_compliance"))
+        {
+            const auto& v = r.raw("residual_compliance");
+            if (!v.is_boolean())
+                throw SceneError(r.at("residual_compliance"), "must be true or false, got " + typeName(v));
+            scene.simulation.residualCompliance = v.get<bool>();
+        }
         if (const auto o = r.integer("output_rate"))
         {
             if (*o < 8000 || *o > 384000)

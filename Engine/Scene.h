@@ -61,6 +61,7 @@ struct Simulation
     std::optional<int> modes;      // reference default 1001, realtime: automatic
     double durationSeconds = 1.0;
     int outputRateHz = 48000;
+    bool residualCompliance = true;  // the voice's methods: the dropped modes' static compliance in series
 };
 
 struct Scene

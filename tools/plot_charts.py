@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Draws Jawari's charts from the CSVs written by jawari-accuracy, jawari-stability, jawari-scaling.
+
+    /usr/bin/python3 tools/plot_charts.py CHART_DIR
+
+Writes accuracy.png (error against real-time factor, one curve per method, points labelled (M, R)),
+stability.png (where each method fails) and scaling.png (cost against M and against P).
+Needs Debian's python3-matplotlib (tools/charts.sh installs it).
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text):
+    try:
+        v = float(text)
+        return v if math.isfinite(v) else None
+    except ValueError:
+        return None
+
+
+METHOD_STYLE = {
+    "newton": ("energy-conserving Newton + residual compliance (default)", "tab:blue", "o"),
+    "newton-plain": ("energy-conserving Newton, plain truncation", "tab:cyan", "s"),
+    "quadratised": ("energy-quadratised (no Newton)", "tab:orange", "^"),
+    "penalty": ("explicit penalty", "tab:red", "x"),
+}
+
+
+def pareto(points):
+    """Points no other point beats on both speed (higher) and error (lower), by speed."""
+    front = []
+    for p in sorted(points, key=lambda q: -q[0]):
+        if not front or p[1] < front[-1][1]:
+            front.append(p)
+    return sorted(front)
+
+
+def accuracy_chart(directory):
+    data = rows(os.path.join(directory, "accuracy.csv"))
+    scenes = ["paper-centre", "paper-tanpura"]
+    measures = [("lsd_db_1s", "LSD over 0-1 s (dB)"), ("rel_l2_100ms", "relative L2 over 0-100 ms")]
+    fig, axes = plt.subplots(2, 2, figsize=(14, 10))
+    for col, scene in enumerate(scenes):
+        reference = next((r for r in data if r["scene"] == scene and r["method"] == "reference"), None)
+        for row, (key, label) in enumerate(measures):
+            ax = axes[row][col]
+            for method, (name, colour, marker) in METHOD_STYLE.items():
+                pts = []
+                for r in data:
+                    if r["scene"] != scene or r["method"] != method:
+                        continue
+                    x, y = number(r["realtime_factor"]), number(r[key])
+                    if x is None or y is None:
+                        continue
+                    pts.append((x, y, f'({r["modes"]}, {float(r["rate_hz"]) / 1000:.0f}k)'))
+                failed = sum(1 for r in data if r["scene"] == scene and r["method"] == method and number(r[key]) is None)
+                if pts:
+                    ax.scatter([p[0] for p in pts], [p[1] for p in pts], color=colour, marker=marker, s=22,
+                               label=name + (f" ({failed} unstable)" if failed else ""))
+                    front = pareto([(p[0], p[1]) for p in pts])
+                    ax.plot([p[0] for p in front], [p[1] for p in front], color=colour, lw=1.2)
+                    for x, y, text in pts:
+                        ax.annotate(text, (x, y), fontsize=6, color=colour, xytext=(2, 2), textcoords="offset points")
+                elif failed:
+                    ax.plot([], [], color=colour, marker=marker, ls="", label=f"{name}: unstable in all {failed}")
+            if reference is not None:
+                ax.axvline(float(reference["realtime_factor"]), color="grey", ls=":", lw=1)
+                ax.text(float(reference["realtime_factor"]), ax.get_ylim()[1], " reference (1001, 2 MHz)",
+                        fontsize=7, color="grey", va="top")
+            ax.set_xscale("log")
+            if key == "rel_l2_100ms":
+                ax.set_yscale("log")
+            ax.set_xlabel("real-time factor (simulated s per CPU s, one core)")
+            ax.set_ylabel(label)
+            ax.set_title(f"{scene}: error against cost, points (M, R)")
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, "accuracy.png"), dpi=110)
+    plt.close(fig)
+
+
+def stability_chart(directory):
+    data = rows(os.path.join(directory, "stability.csv"))
+    methods = ["energy-conserving", "quadratised", "penalty"]
+    alphas = sorted({float(r["alpha"]) for r in data})
+    rates = sorted({float(r["rate_hz"]) for r in data})
+    stiffnesses = sorted({float(r["stiffness"]) for r in data})
+    codes = {"ok": 0, "penetration": 1, "energy": 2, "nan": 3}
+    cmap = ListedColormap(["#9bd39b", "#f2d16b", "#e8873a", "#c0392b"])
+    fig, axes = plt.subplots(len(methods), len(alphas), figsize=(16, 10), sharex=True, sharey=True)
+    for i, method in enumerate(methods):
+        for j, alpha in enumerate(alphas):
+            grid = [[0] * len(rates) for _ in stiffnesses]
+            for r in data:
+                if r["method"] == method and float(r["alpha"]) == alpha:
+                    grid[stiffnesses.index(float(r["stiffness"]))][rates.index(float(r["rate_hz"]))] = codes[r["outcome"]]
+            ax = axes[i][j]
+            ax.imshow(grid, origin="lower", cmap=cmap, vmin=0, vmax=3, aspect="auto")
+            ax.set_xticks(range(len(rates)), [f"{int(r / 48000)}x" for r in rates], fontsize=7)
+            ax.set_yticks(range(len(stiffnesses)), [f"1e{int(round(math.log10(k)))}" for k in stiffnesses], fontsize=7)
+            ax.set_title(f"{method}, alpha = {alpha:g}", fontsize=9)
+            if i == len(methods) - 1:
+                ax.set_xlabel("internal rate (x 48 kHz)")
+            if j == 0:
+                ax.set_ylabel("K")
+    handles = [plt.Rectangle((0, 0), 1, 1, color=cmap(k)) for k in range(4)]
+    fig.legend(handles, ["stable", "penetration > 1 mm", "energy grows", "NaN"], loc="lower center", ncol=4)
+    fig.suptitle("Stability map: paper-centre string, 100 modes, 0.1 s")
+    fig.tight_layout(rect=(0, 0.04, 1, 0.97))
+    fig.savefig(os.path.join(directory, "stability.png"), dpi=100)
+    plt.close(fig)
+
+
+def scaling_chart(directory):
+    data = rows(os.path.join(directory, "scaling.csv"))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    m = [r for r in data if r["series"] == "modes"]
+    p = [r for r in data if r["series"] == "points"]
+    axes[0].plot([int(r["modes"]) for r in m], [float(r["realtime_factor"]) for r in m], "o-")
+    axes[0].set_xlabel("modes M (one point obstacle)")
+    axes[1].plot([int(r["contact_points"]) for r in p], [float(r["realtime_factor"]) for r in p], "o-", color="tab:orange")
+    axes[1].set_xlabel("contact points P (M = 200)")
+    for ax in axes:
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_ylabel("real-time factor")
+        ax.grid(True, which="both", alpha=0.3)
+    fig.suptitle("Cost of the default voice at 384 kHz (paper string, tanpura obstacle)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, "scaling.png"), dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    directory = sys.argv[1] if len(sys.argv) > 1 else "Resources/Charts"
+    accuracy_chart(directory)
+    stability_chart(directory)
+    scaling_chart(directory)
+    print(f"wrote accuracy.png, stability.png, scaling.png in {directory}")
