@@ -198,3 +198,29 @@ TEST_CASE("every method gives finite output on the paper scenes and the penalty 
                 CHECK(voice.blowUps() == 0);
         }
 }
+
+TEST_CASE("the voice plays in tune at every host rate from 22.05 kHz to 192 kHz")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    for (double host : {22050.0, 44100.0, 48000.0, 50000.0, 88200.0, 96000.0, 192000.0})
+    {
+        scene.simulation.method = Method::realtime;
+        scene.simulation.modes.reset();
+        scene.simulation.rateHz.reset();
+        scene.simulation.outputRateHz = static_cast<int>(host);
+        scene.simulation.durationSeconds = 0.5;
+        auto free = scene;
+        free.obstacles.clear();
+        const auto withObstacle = renderScene(scene);
+        const auto without = renderScene(free);
+        const double f0 = peakFrequency(without.output, host, 150, 400);
+        const double f1 = peakFrequency(withObstacle.output, host, 150, 400);
+        INFO("host " << host << " Hz: internal " << withObstacle.stats.internalRateHz << " Hz, " << withObstacle.stats.modes
+                     << " modes, free f0 " << f0 << " Hz, with the obstacle " << f1 << " Hz (ratio " << f1 / f0 << ")");
+        CHECK(withObstacle.stats.internalRateHz >= 384000.0);
+        CHECK(f0 == Approx(196.0).epsilon(0.002));
+        CHECK(f1 / f0 == Approx(4.0 / 3.0).epsilon(0.005));
+        for (double v : withObstacle.output)
+            REQUIRE(std::isfinite(v));
+    }
+}
