@@ -105,12 +105,25 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
 
     constexpr double eps = std::numeric_limits<double>::epsilon();
     constexpr int maxIterations = 100;
+    // Nobody touches with the contact-free prediction: r = b exactly.
+    bool touching = false;
     for (Eigen::Index j = 0; j < P; ++j)
-        r_[j] = b[j];
+        touching = touching || s[j] > 0.0 || s[j] - b[j] > 0.0;
+    if (!touching)
+    {
+        for (Eigen::Index j = 0; j < P; ++j)
+        {
+            r[j] = b[j];
+            slope[j] = 0.0;
+            previousContact_[j] = olderContact_[j] = 0;
+        }
+        return 0;
+    }
+    // Warm start from the previous steps where the point was in contact (as in the scalar path).
+    for (Eigen::Index j = 0; j < P; ++j)
+        r_[j] = olderContact_[j] ? 2.0 * previousR_[j] - olderR_[j] : previousContact_[j] ? previousR_[j] : b[j];
     double norm = residual(s, b, r_, phi_, true);
     int it = 0;
-    if (G_.isZero(0.0))
-        norm = 0.0;  // nobody touches with the contact-free prediction: r = b
     while (norm > 0.0 && it < maxIterations)
     {
         ++it;
@@ -158,6 +171,10 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
     {
         r[j] = r_[j];
         slope[j] = chordSlope(points_[j].law, s[j], r_[j]).value;
+        olderR_[j] = previousR_[j];
+        olderContact_[j] = previousContact_[j];
+        previousR_[j] = r_[j];
+        previousContact_[j] = slope[j] != 0.0;
     }
     return it;
 }
