@@ -143,7 +143,10 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
             }
             (phi < 0.0 ? lo : hi) = r;
             const double next = r - phi / (1.0 + k * G.derivative);
-            if (!(next > lo && next < hi))
+            // Only worth pursuing when the guess was already close (quadratic convergence from
+            // there); at audio-like rates it often is not, and the log-penetration Newton below is
+            // then the quicker way.
+            if (!(next > lo && next < hi) || (it == 1 && std::abs(next - r) > 1e-3 * scale))
                 break;
             r = next;
         }
