@@ -114,6 +114,13 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
             return {D, (beta * pBeta / p - D) / (p - s)};
         }
         const double e = (p - s) / s;
+        if (std::abs(e) >= 0.5)
+        {
+            // Far from s nothing cancels in p^beta - s^beta (relative error below 3 eps): one exp.
+            const double pBeta = std::exp(beta * z);
+            const double D = (pBeta - sAlpha * s) / (p - s);
+            return {D, (beta * pBeta / p - D) / (p - s)};
+        }
         if (std::abs(e) < 1e-3)
             return {beta * sAlpha * (1.0 + (beta - 1.0) / 2.0 * e + (beta - 1.0) * (beta - 2.0) / 6.0 * e * e),
                     beta * sAlpha / s * ((beta - 1.0) / 2.0 + (beta - 1.0) * (beta - 2.0) / 3.0 * e)};

@@ -177,6 +177,18 @@ int run(int argc, char* argv[])
         const auto m = jawari::methodFromName(method->toStdString());
         if (!m)
             throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference, realtime, quadratised, penalty)");
+        // The scene's modes and rate were chosen for its own method: switching between the
+        // reference and the voice drops them (the new method's defaults or automatic choice apply)
+        // unless the command line gives them too.
+        const bool switchesSolver = jawari::runsVoice(*m) != jawari::runsVoice(scene.simulation.method);
+        if (switchesSolver && !quiet && (scene.simulation.modes || scene.simulation.rateHz) && !(modes && rate))
+            std::fprintf(stderr, "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
+                         jawari::methodName(*m), jawari::methodName(scene.simulation.method));
+        if (switchesSolver)
+        {
+            scene.simulation.modes.reset();
+            scene.simulation.rateHz.reset();
+        }
         scene.simulation.method = *m;
     }
     if (modes)
