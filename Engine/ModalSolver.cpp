@@ -492,10 +492,12 @@ int ModalSolver::solveQuadratised()
     }
     if (!touching || V <= 0.0)
     {
+        // Out of contact V = 0, so xi = sqrt(2 V) = 0: what the recursion xi^{n+1} = xi^{n-1}
+        // would carry over is drift, released here (it can only lower the energy) instead of
+        // pushing with a stale force at the next contact.
         std::fill(slope_.begin(), slope_.end(), 0.0);
-        const double xiNext = xiPrev_;  // g = 0: xi^{n+1} = xi^{n-1}
         xiPrev_ = xi_;
-        xi_ = xiNext;
+        xi_ = 0.0;
         return 0;
     }
     const double root = std::sqrt(2.0 * V);
