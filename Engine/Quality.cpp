@@ -35,7 +35,15 @@ VoiceQuality resolveQuality(const QualitySetting& setting, const StringParameter
 VoiceQuality automaticQuality(const Scene& scene)
 {
     const double host = scene.simulation.outputRateHz;
-    auto q = resolveQuality(*qualityByName("standard"), scene.string, host);
+    VoiceQuality q;
+    if (scene.obstacles.empty())
+    {
+        // No contact: every mode is exact at any rate (DESIGN.md section 2), so the host rate
+        // itself, and only the modes below the audio band (or the host's Nyquist frequency).
+        q = resolveQuality({"free", std::min(20000.0, 0.45 * host), host}, scene.string, host);
+    }
+    else
+        q = resolveQuality(*qualityByName("standard"), scene.string, host);
     if (scene.simulation.modes)
         q.modes = *scene.simulation.modes;
     if (scene.simulation.rateHz)

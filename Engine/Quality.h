@@ -36,7 +36,9 @@ std::optional<QualitySetting> qualityByName(const std::string& name);
 // M and the oversampling a setting gives for a string at a host rate.
 VoiceQuality resolveQuality(const QualitySetting& setting, const StringParameters& string, double hostRateHz);
 
-// The automatic choice: the scene's own modes/rate where given, else the standard setting.
+// The automatic choice: the scene's own modes/rate where given; else, with no obstacle, the modes
+// below 20 kHz at the host rate (no contact, nothing to oversample), and the standard setting
+// otherwise.
 VoiceQuality automaticQuality(const Scene& scene);
 
 }  // namespace jawari
