@@ -280,6 +280,13 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
     if (static_cast<int>(current.size()) != M_ || static_cast<int>(previous.size()) != M_)
         throw std::invalid_argument("modal state has the wrong number of modes");
     compact(current, previous);
+    restartFromModes();
+}
+
+void ModalSolver::restartFromModes()
+{
+    // Everything derived from the modal state, afresh: contact displacements, pickup, the
+    // compliance deflections and the quadratised variable (xi = sqrt(2 V) at n and n-1).
     system_.reset();
     std::fill(delta_.begin(), delta_.end(), 0.0);
     std::fill(deltaPrev_.begin(), deltaPrev_.end(), 0.0);
@@ -427,12 +434,7 @@ void ModalSolver::copyStateFrom(ModalSolver& other)
         q_[i] = k >= 0 ? other.q_[k] : 0.0;
         qPrev_[i] = k >= 0 ? other.qPrev_[k] : 0.0;
     }
-    system_.reset();
-    std::fill(delta_.begin(), delta_.end(), 0.0);
-    std::fill(deltaPrev_.begin(), deltaPrev_.end(), 0.0);
-    projectActive(q_, uC_.data());
-    projectActive(qPrev_, uCPrev_.data());
-    pickup_ = kernels::dot(h_, q_, Ma_);
+    restartFromModes();
 }
 
 double ModalSolver::solveOnePoint(double uTilde)

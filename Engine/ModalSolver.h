@@ -150,6 +150,7 @@ private:
     double solveOnePoint(double uTilde);  // contact at the single point; returns its slope G
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     void compact(const std::vector<double>& current, const std::vector<double>& previous);
+    void restartFromModes();  // RT: the state derived from q_, qPrev_ (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
 
     int M_ = 0;   // modes of the model

@@ -71,7 +71,7 @@ Voice::Voice(const VoiceConfig& config)
     runawayLimit_ = 0.0;
     pulseSteps_ = std::max<long>(1, std::lround(config.pluckSeconds / dt_));
     pluckForce_ = config.pluckForceNewtons;
-    pulseStep_ = pulseSteps_;  // no pulse running
+    pulseStep_ = -1;  // no pulse running
 }
 
 void Voice::setInitialShape(double position, double amplitudeMetres)
@@ -111,19 +111,21 @@ void Voice::unrelease()
 
 double Voice::nextInternalSample()
 {
-    if (pulseStep_ < pulseSteps_)
+    if (pulseStep_ >= 0)
     {
-        // Raised-cosine force pulse: smooth on and off, so a sounding string is plucked without a click.
-        const double phase = (double(pulseStep_) + 0.5) / double(pulseSteps_);
-        solver_.setExternalForce(pulsePeak_ * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase)));
-        if (++pulseStep_ == pulseSteps_)
-            pulseStep_ = pulseSteps_ + 1;  // one more step to switch the force off
-    }
-    else if (pulseStep_ == pulseSteps_ + 1)
-    {
-        solver_.setExternalForce(0.0);
-        pulseStep_ = pulseSteps_;
-        raiseCeiling();
+        if (pulseStep_ < pulseSteps_)
+        {
+            // Raised-cosine force pulse: smooth on and off, so a sounding string is plucked without a click.
+            const double phase = (double(pulseStep_) + 0.5) / double(pulseSteps_);
+            solver_.setExternalForce(pulsePeak_ * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase)));
+            ++pulseStep_;
+        }
+        else
+        {
+            solver_.setExternalForce(0.0);
+            pulseStep_ = -1;
+            raiseCeiling();
+        }
     }
     if (first_)
     {
@@ -162,7 +164,7 @@ void Voice::process(double* out, int numSamples)
             std::fill(block_.begin(), block_.end(), 0.0);
             y_ = yPrevious_ = 0.0;
             first_ = true;
-            pulseStep_ = pulseSteps_;
+            pulseStep_ = -1;
             energyCeiling_ = 0.0;
             runawayLimit_ = 0.0;
             out[m] = 0.0;

@@ -83,8 +83,8 @@ private:
     std::vector<double> block_;  // one host sample's internal samples
     double y_ = 0.0, yPrevious_ = 0.0;
     bool first_ = true;
-    // Pluck pulse.
-    long pulseStep_ = 0;
+    // Pluck pulse: the step within it, or -1 when none is running.
+    long pulseStep_ = -1;
     long pulseSteps_ = 0;
     double pulsePeak_ = 0.0;
     double pluckForce_ = 0.0;
