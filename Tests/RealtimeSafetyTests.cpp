@@ -13,7 +13,8 @@
 
 namespace
 {
-std::atomic<bool> counting{false};
+// Counted per thread: only allocations made by a thread inside a CountAllocations scope count.
+thread_local bool counting = false;
 std::atomic<long> allocations{0};
 
 struct CountAllocations
@@ -134,4 +135,68 @@ TEST_CASE("Voice process and pluck and release and takeStateFrom never allocate"
         for (double v : block)
             REQUIRE(std::isfinite(v));
     }
+}
+
+#include "LockFreeExchange.h"
+
+#include <thread>
+
+TEST_CASE("new voices built on a control thread reach the audio thread lock-free and are freed off it")
+{
+    // The control thread builds voices with the obstacle moving along the string and offers them;
+    // the audio thread processes blocks, takes the newest at block boundaries and carries the
+    // sounding string over. The audio thread counts its own allocations: there must be none.
+    LockFreeExchange<Voice> exchange;
+    VoiceConfig config;
+    config.modes = 120;
+    config.oversampling = 4;
+    config.obstacles = {test::pointObstacle(0.006)};
+    exchange.offer(std::make_unique<Voice>(config));
+    std::atomic<bool> done{false};
+    std::atomic<int> taken{0};
+    long audioAllocations = -1;
+    bool finite = true;
+    long freed = 0;
+
+    std::thread audio([&] {
+        std::vector<double> block(128);
+        Voice* voice = exchange.take();
+        {
+            CountAllocations guard;  // this thread only
+            voice->pluck(1.0);
+            for (int b = 0; b < 3000; ++b)
+            {
+                Voice* previous = nullptr;
+                if (Voice* fresh = exchange.take(&previous))
+                {
+                    fresh->takeStateFrom(*previous);  // previous is still alive until retire()
+                    exchange.retire();
+                    voice = fresh;
+                    ++taken;
+                }
+                voice->process(block.data(), 128);
+                for (double v : block)
+                    finite = finite && std::isfinite(v);
+                if (b % 500 == 0)
+                    voice->pluck(0.8);
+            }
+            audioAllocations = allocations;
+        }
+        done = true;
+    });
+    for (int k = 0; !done; ++k)
+    {
+        config.obstacles = {test::pointObstacle(0.006 + 0.0005 * (k % 40))};
+        exchange.offer(std::make_unique<Voice>(config));
+        freed += exchange.collect();
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    audio.join();
+    freed += exchange.collect();
+    INFO("voices handed over " << taken << ", freed on the control thread " << freed << ", audio-thread allocations "
+                               << audioAllocations);
+    CHECK(audioAllocations == 0);
+    CHECK(finite);
+    CHECK(taken > 5);
+    CHECK(freed == taken);  // every voice the audio thread replaced came back and was freed here
 }
