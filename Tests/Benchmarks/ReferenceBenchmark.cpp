@@ -7,7 +7,9 @@
 #include "Denormals.h"
 #include "ModalKernels.h"
 #include "OfflineRender.h"
+#include "Quality.h"
 #include "Scene.h"
+#include "Voice.h"
 
 #include <cmath>
 #include <vector>
@@ -76,6 +78,40 @@ void kernelCheck()
                 "(checksum %.3g)\n\n",
                 vectorised, scalar, scalar / vectorised, sink);
 }
+// The voice at standard quality in 256-sample blocks at 48 kHz, plucked every half second: the
+// worst block's CPU time against its real-time budget, and the most Newton iterations in a step.
+void worstBlock(const char* name, const Scene& scene)
+{
+    const auto q = resolveQuality(*qualityByName("standard"), scene.string, 48000.0);
+    VoiceConfig config;
+    config.string = scene.string;
+    config.obstacles = scene.obstacles;
+    config.modes = q.modes;
+    config.oversampling = q.oversampling;
+    Voice voice(config);
+    ScopedFlushDenormals noDenormals;
+    const int block = 256;
+    const double budget = block / 48000.0;
+    std::vector<double> out(block);
+    double worst = 0.0, total = 0.0;
+    int iterations = 0;
+    const int blocks = 48000 * 10 / block;  // 10 s
+    for (int b = 0; b < blocks; ++b)
+    {
+        if (b % (24000 / block) == 0)
+            voice.pluck(1.0);
+        const double start = threadCpuSeconds();
+        voice.process(out.data(), block);
+        const double spent = threadCpuSeconds() - start;
+        worst = std::max(worst, spent);
+        total += spent;
+        iterations = std::max(iterations, voice.takeMaxIterations());
+    }
+    std::printf("%-14s standard voice (%d modes, %.0f kHz), 256-sample blocks for 10 s: mean %.1f %%, worst %.1f %% of the "
+                "block's real-time budget (%.2f ms); most Newton iterations in a step %d\n",
+                name, q.modes, q.oversampling * 48.0, 100.0 * total / blocks / budget, 100.0 * worst / budget, budget * 1e3,
+                iterations);
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -95,5 +131,8 @@ int main(int argc, char** argv)
                     stats.modes, stats.activeModes, stats.internalRateHz, stats.cpuSeconds, seconds / stats.cpuSeconds,
                     double(stats.newtonIterationsTotal) / double(stats.steps));
     }
+    std::printf("\n");
+    for (const char* name : {"paper-centre", "paper-tanpura"})
+        worstBlock(name, loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json"));
     return 0;
 }
