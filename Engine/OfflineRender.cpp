@@ -121,6 +121,11 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
     Voice voice(voiceConfigFor(scene));
     voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
     RenderResult result;
+    {
+        const auto H = voice.solver().energy();
+        result.stats.initialEnergy = H.total;
+        result.stats.initialContactEnergy = H.contact;
+    }
     result.outputRateHz = scene.simulation.outputRateHz;
     auto& stats = result.stats;
     stats.modes = voice.modes();
@@ -195,6 +200,11 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     solver.setInitialDisplacement(setup.initial);
 
     RenderResult result;
+    {
+        const auto H = solver.energy();
+        result.stats.initialEnergy = H.total;
+        result.stats.initialContactEnergy = H.contact;
+    }
     result.outputRateHz = scene.simulation.outputRateHz;
     auto& stats = result.stats;
     stats.modes = solver.modeCount();

@@ -31,6 +31,10 @@ struct RenderStats
     double internalRateHz = 0.0;
     bool transformPath = false;
     double cpuSeconds = 0.0;
+    // At t = 0: the string's energy and the part of it stored in obstacles the initial shape
+    // already presses into (large when a scene starts the string inside an obstacle).
+    double initialEnergy = 0.0;
+    double initialContactEnergy = 0.0;
 };
 
 struct RenderResult

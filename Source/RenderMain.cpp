@@ -239,6 +239,11 @@ int run(int argc, char* argv[])
     if (bar)
         std::fprintf(stderr, "\n");
 
+    if (!quiet && result.stats.initialContactEnergy > 0.5 * result.stats.initialEnergy)
+        std::fprintf(stderr,
+                     "warning: the initial shape starts inside an obstacle: %.3g J of the %.3g J at t = 0 is contact "
+                     "energy, which launches the string (check obstacle heights against the pluck)\n",
+                     result.stats.initialContactEnergy, result.stats.initialEnergy);
     double peak = 0.0;
     writeWav(wavFile, result.output, result.outputRateHz, raw, peak);
     if (energyFile)

@@ -125,3 +125,16 @@ TEST_CASE("a bad render leaves an existing output file untouched")
     std::getline(in, text);
     CHECK(text == "previous contents");
 }
+
+TEST_CASE("jawari-render warns when the initial shape starts inside an obstacle and still renders")
+{
+    const auto dir = scratch();
+    const auto wav = dir / "inside.wav";
+    const auto o = render(jawari::test::resource("../Tests/scenes/corpus/render-pushed-1cm-in.json") + " -o " + wav.string());
+    INFO(o.output);
+    CHECK(o.status == 0);
+    CHECK(fs::exists(wav));
+    CHECK_THAT(o.output, Catch::Matchers::Contains("warning: the initial shape starts inside an obstacle"));
+    const auto quietRun = render(jawari::test::resource("Scenes/paper-centre.json") + " -o " + wav.string() + " --duration 0.01");
+    CHECK_THAT(quietRun.output, !Catch::Matchers::Contains("warning"));
+}
