@@ -95,6 +95,18 @@ void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderSt
         options.progress(1.0);
 }
 
+// What every render reports about its solver before it runs.
+void describe(ModalSolver& solver, double rateHz, RenderStats& stats)
+{
+    stats.modes = solver.modeCount();
+    stats.activeModes = solver.activeModeCount();
+    stats.internalRateHz = rateHz;
+    stats.transformPath = solver.usesTransform();
+    const auto H = solver.energy();
+    stats.initialEnergy = H.total;
+    stats.initialContactEnergy = H.contact;
+}
+
 VoiceConfig voiceConfigFor(const Scene& scene)
 {
     const auto q = automaticQuality(scene);
@@ -121,16 +133,9 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
     Voice voice(voiceConfigFor(scene));
     voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
     RenderResult result;
-    {
-        const auto H = voice.solver().energy();
-        result.stats.initialEnergy = H.total;
-        result.stats.initialContactEnergy = H.contact;
-    }
     result.outputRateHz = scene.simulation.outputRateHz;
     auto& stats = result.stats;
-    stats.modes = voice.modes();
-    stats.activeModes = voice.activeModes();
-    stats.internalRateHz = voice.internalRateHz();
+    describe(voice.solver(), voice.internalRateHz(), stats);
     const size_t count = static_cast<size_t>(std::llround(scene.simulation.durationSeconds * result.outputRateHz));
     const size_t latency = static_cast<size_t>(voice.latencySamples());
     std::vector<double> raw(count + latency);
@@ -143,15 +148,16 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
         for (size_t i = 0; i < n; ++i)
         {
             voice.process(raw.data() + m + i, 1);
-            const int it = voice.solver().lastIterations();
-            stats.newtonIterationsTotal += it;  // of the last internal step of each host sample
+            const long iterations = voice.takeIterationCount();
+            const int most = voice.takeMaxIterations();
+            stats.newtonIterationsTotal += iterations;
+            stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, most);
             if (options.logEnergy && m + i < count)
             {
                 const auto H = voice.solver().energy();
-                result.energy.push_back({double(m + i + 1) / result.outputRateHz, H.total, H.contact, it, it});
+                result.energy.push_back({double(m + i + 1) / result.outputRateHz, H.total, H.contact, iterations, most});
             }
         }
-        stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, voice.takeMaxIterations());
         stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, voice.takeMaxPenetration());
         if (options.progress && !options.progress(double(m) / double(raw.size())))
             throw std::runtime_error("render cancelled");
@@ -178,10 +184,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     ModalSolver solver(setup.config);
     solver.setInitialDisplacement(setup.initial);
     RenderStats stats;
-    stats.modes = solver.modeCount();
-    stats.activeModes = solver.activeModeCount();
-    stats.internalRateHz = setup.rateHz;
-    stats.transformPath = solver.usesTransform();
+    describe(solver, setup.rateHz, stats);
     std::vector<double> out;
     out.reserve(static_cast<size_t>(steps));
     run(solver, scene.pickup.quantity, steps, stats, options, [&](double v) { out.push_back(v); }, [](long long, int) {});
@@ -200,17 +203,9 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     solver.setInitialDisplacement(setup.initial);
 
     RenderResult result;
-    {
-        const auto H = solver.energy();
-        result.stats.initialEnergy = H.total;
-        result.stats.initialContactEnergy = H.contact;
-    }
     result.outputRateHz = scene.simulation.outputRateHz;
     auto& stats = result.stats;
-    stats.modes = solver.modeCount();
-    stats.activeModes = solver.activeModeCount();
-    stats.internalRateHz = setup.rateHz;
-    stats.transformPath = solver.usesTransform();
+    describe(solver, setup.rateHz, stats);
 
     const double duration = scene.simulation.durationSeconds;
     const long long steps = std::llround(duration * setup.rateHz);

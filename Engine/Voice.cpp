@@ -137,6 +137,7 @@ double Voice::nextInternalSample()
     solver_.step();
     const double yNext = solver_.pickup();
     maxIterations_ = std::max(maxIterations_, solver_.lastIterations());
+    iterationCount_ += solver_.lastIterations();
     if (solver_.contactCount() > 0)
         maxPenetration_ = std::max(maxPenetration_, solver_.lastMaxPenetration());
     double sample = y_;
@@ -189,6 +190,13 @@ int Voice::takeMaxIterations()
     const int m = maxIterations_;
     maxIterations_ = 0;
     return m;
+}
+
+long Voice::takeIterationCount()
+{
+    const long n = iterationCount_;
+    iterationCount_ = 0;
+    return n;
 }
 
 double Voice::takeMaxPenetration()

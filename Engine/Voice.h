@@ -67,6 +67,7 @@ public:
     // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
     // since the last call.
     int takeMaxIterations();
+    long takeIterationCount();  // RT: Newton iterations summed over the internal steps since the last call
     double takeMaxPenetration();
     ModalSolver& solver() { return solver_; }
 
@@ -94,6 +95,7 @@ private:
     double energyCeiling_ = 0.0;
     void raiseCeiling();
     int maxIterations_ = 0;
+    long iterationCount_ = 0;
     double maxPenetration_ = 0.0;
 };
 
