@@ -21,53 +21,31 @@ inline double horizontalSum(const double* partial)
     return s;
 }
 
-// q~ = a q - e qPrev written over qPrev; returns h . q~ and, when phi is not null, phi . q~.
-inline void predict(const double* __restrict a, const double* __restrict e, const double* __restrict current,
-                    double* __restrict previous, const double* __restrict h, const double* __restrict phi, int M,
-                    double& pickup, double& contact)
+// q~ = a q - e qPrev written over qPrev; returns h . q~ (the single-step path; contact
+// projections follow, after any explicit force has joined q~).
+inline double predict(const double* __restrict a, const double* __restrict e, const double* __restrict current,
+                      double* __restrict previous, const double* __restrict h, int M)
 {
     alignas(64) double ph[kBlock] = {};
-    alignas(64) double pc[kBlock] = {};
     int p = 0;
-    if (phi != nullptr)
+    for (; p + kBlock <= M; p += kBlock)
     {
-        for (; p + kBlock <= M; p += kBlock)
-        {
-#pragma omp simd aligned(ph, pc : 64)
-            for (int k = 0; k < kBlock; ++k)
-            {
-                const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
-                previous[p + k] = next;
-                ph[k] += h[p + k] * next;
-                pc[k] += phi[p + k] * next;
-            }
-        }
-    }
-    else
-    {
-        for (; p + kBlock <= M; p += kBlock)
-        {
 #pragma omp simd aligned(ph : 64)
-            for (int k = 0; k < kBlock; ++k)
-            {
-                const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
-                previous[p + k] = next;
-                ph[k] += h[p + k] * next;
-            }
+        for (int k = 0; k < kBlock; ++k)
+        {
+            const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
+            previous[p + k] = next;
+            ph[k] += h[p + k] * next;
         }
     }
     double y = horizontalSum(ph);
-    double u = horizontalSum(pc);
     for (; p < M; ++p)
     {
         const double next = a[p] * current[p] - e[p] * previous[p];
         previous[p] = next;
         y += h[p] * next;
-        if (phi != nullptr)
-            u += phi[p] * next;
     }
-    pickup = y;
-    contact = u;
+    return y;
 }
 
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw

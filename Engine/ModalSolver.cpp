@@ -137,7 +137,6 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
         for (int p = 0; p < M_; ++p)
             if (std::abs(shapes_[size_t(j) * M_ + p]) > couplingFloor)
                 coupled_[p] = 1;
-    contactPhiE_.assign(P_, 0.0);
     if (config.excitationPosition)
     {
         excitationShape_.resize(M_);
@@ -148,8 +147,6 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
                 coupled_[p] = 1;
         }
         pickupPhiE_ = forceScale_ * kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_);
-        for (int j = 0; j < P_; ++j)
-            contactPhiE_[j] = forceScale_ * kernels::dot(&shapes_[size_t(j) * M_], excitationShape_.data(), M_);
     }
 
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P_, P_);
@@ -580,8 +577,7 @@ void ModalSolver::stepPaired()
 void ModalSolver::stepSingle()
 {
     // q~ = a q - e q^{n-1}, written over q^{n-1}; its pickup and contact projections.
-    double unused = 0.0;
-    kernels::predict(a_, e_, q_, qPrev_, h_, nullptr, Mpad_, pickupTilde_, unused);
+    pickupTilde_ = kernels::predict(a_, e_, q_, qPrev_, h_, Mpad_);
     if (externalForce_ != 0.0)
     {
         // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.

@@ -201,7 +201,6 @@ private:
     std::vector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
     double externalForce_ = 0.0;           // N
     double pickupPhiE_ = 0.0;              // (dt^2/mu) h . phi_e
-    std::vector<double> contactPhiE_;      // (dt^2/mu) phi_j . phi_e
 
     std::vector<double> pickupPhiW_;  // (dt^2/mu) w_j (h . phi_j)
     Eigen::MatrixXd stringCoupling_;  // A = (dt^2/mu) Phi Phi^T W: the string's response at the points
