@@ -16,7 +16,8 @@ namespace
 {
 struct RealFft
 {
-    explicit RealFft(size_t n) : size(n)
+    explicit RealFft(size_t n)
+        : size(n)
     {
         time = fftw_alloc_real(n);
         freq = fftw_alloc_complex(n / 2 + 1);
@@ -131,7 +132,8 @@ double logSpectralDistance(const std::vector<double>& y, const std::vector<doubl
         {
             // The level difference as the log of a ratio: exact 0 for equal levels (a difference
             // of two logs would not be, once the compiler fuses it into an FMA).
-            const double d = 10.0 * std::log10(std::max(yFrames[f][k], floorPower) / std::max(refFrames[f][k], floorPower));
+            const double d =
+                10.0 * std::log10(std::max(yFrames[f][k], floorPower) / std::max(refFrames[f][k], floorPower));
             sum += d * d;
         }
         total += std::sqrt(sum / double(bins + 1));

@@ -207,7 +207,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     if (!(p > 0.0))
         p = pMid;
     double zLow = -std::numeric_limits<double>::infinity();  // F < 0 there
-    double pHigh = pMid;                                    // F >= 0 there
+    double pHigh = pMid;                                     // F >= 0 there
     double z = std::log(p);
     Divided dv = p == pMid ? atMid : divided(p, z);
     for (int it = 1; it <= maxIterations; ++it)

@@ -88,8 +88,8 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
                 guess = 3.0 * (previousR_[j] - olderR_[j]) + oldestR_[j];
             else if (olderContact_[j])
                 guess = 2.0 * previousR_[j] - olderR_[j];
-            const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j),
-                                                previousContact_[j] ? &guess : nullptr);
+            const auto sol =
+                solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), previousContact_[j] ? &guess : nullptr);
             r[j] = sol.r;
             slope[j] = sol.slope;
             oldestR_[j] = olderR_[j];
@@ -128,7 +128,8 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
     {
         ++it;
         AG_.noalias() = A_ * G_;
-        const double scale = r_.lpNorm<Eigen::Infinity>() + Eigen::Map<const Eigen::VectorXd>(b, P).lpNorm<Eigen::Infinity>()
+        const double scale = r_.lpNorm<Eigen::Infinity>()
+                             + Eigen::Map<const Eigen::VectorXd>(b, P).lpNorm<Eigen::Infinity>()
                              + AG_.lpNorm<Eigen::Infinity>();
         if (norm <= 4.0 * eps * scale)
             break;

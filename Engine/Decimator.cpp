@@ -12,7 +12,8 @@
 namespace jawari
 {
 
-Decimator::Decimator(int factor, double hostRateHz) : factor_(factor)
+Decimator::Decimator(int factor, double hostRateHz)
+    : factor_(factor)
 {
     if (factor < 1 || factor > 256)
         throw std::invalid_argument("decimation factor must be 1 to 256, got " + std::to_string(factor));

@@ -56,10 +56,9 @@ inline double predict(const double* __restrict a, const double* __restrict e, co
 // correction, which the caller folds in as c1 a phi), settled = q^m, with h . and phi . of X and Y.
 // Per two steps: six loads and three stores per mode, against twelve and four for two single
 // steps; the state stays in registers between the steps. phi may be null (no contact point).
-inline void pairStep(const double* __restrict a, const double* __restrict e, double* __restrict X,
-                     double* __restrict Y, double* __restrict settled, const double* __restrict h,
-                     const double* __restrict phi, double c1, double c2, int M, double& pickup1, double& contact1,
-                     double& pickup2, double& contact2)
+inline void pairStep(const double* __restrict a, const double* __restrict e, double* __restrict X, double* __restrict Y,
+                     double* __restrict settled, const double* __restrict h, const double* __restrict phi, double c1,
+                     double c2, int M, double& pickup1, double& contact1, double& pickup2, double& contact2)
 {
     alignas(64) double ph1[kBlock] = {}, pc1[kBlock] = {}, ph2[kBlock] = {}, pc2[kBlock] = {};
     static constexpr double zeros[kBlock] = {};

@@ -6,11 +6,11 @@
 #include <fftw3.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
-#include <limits>
 #include <string>
 #include <utility>
 
@@ -40,7 +40,8 @@ std::vector<int> distinctGridNodes(const std::vector<ContactPoint>& contacts, do
 
 struct ModalSolver::Transform
 {
-    explicit Transform(int n) : size(n)
+    explicit Transform(int n)
+        : size(n)
     {
         in = fftw_alloc_real(n);
         out = fftw_alloc_real(n);
@@ -69,19 +70,19 @@ struct ModalSolver::Transform
     fftw_plan plan = nullptr;
     double* in = nullptr;
     double* out = nullptr;
-    double* energyIn = nullptr;   // separate buffers so energy() leaves the stepping state alone
+    double* energyIn = nullptr;  // separate buffers so energy() leaves the stepping state alone
     double* energyOut = nullptr;
-    std::vector<int> nodes;       // grid node of contact point j
-    double scale = 0.0;           // sqrt(2/L)/2: S v = scale * RODFT00(v), S^T likewise
+    std::vector<int> nodes;  // grid node of contact point j
+    double scale = 0.0;      // sqrt(2/L)/2: S v = scale * RODFT00(v), S^T likewise
 };
 
 ModalSolver::ModalSolver(const ModalSolverConfig& config)
-    : M_(config.modes.size()),
-      P_(static_cast<int>(config.contacts.size())),
-      dt_(config.timeStep),
-      mu_(config.linearDensity),
-      forceScale_(config.timeStep * config.timeStep / config.linearDensity),
-      contacts_(config.contacts)
+    : M_(config.modes.size())
+    , P_(static_cast<int>(config.contacts.size()))
+    , dt_(config.timeStep)
+    , mu_(config.linearDensity)
+    , forceScale_(config.timeStep * config.timeStep / config.linearDensity)
+    , contacts_(config.contacts)
 {
     if (M_ < 1)
         throw std::invalid_argument("the modal solver needs at least one mode");
@@ -451,15 +452,15 @@ int ModalSolver::solveContacts()
 {
     switch (method_)
     {
-        case ContactMethod::energyConserving:
-            return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+        case ContactMethod::energyConserving: return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
         case ContactMethod::penalty:
             // f^n = K [g - u^n]_+^alpha, explicit.
             for (int j = 0; j < P_; ++j)
             {
                 const double penetration = contacts_[j].height - uC_[j] - delta_[j];
-                slope_[j] = penetration > 0.0 ? -contacts_[j].law.stiffness * std::pow(penetration, contacts_[j].law.exponent)
-                                              : 0.0;
+                slope_[j] = penetration > 0.0
+                                ? -contacts_[j].law.stiffness * std::pow(penetration, contacts_[j].law.exponent)
+                                : 0.0;
             }
             return 0;
         case ContactMethod::quadratised: return solveQuadratised();
@@ -516,7 +517,7 @@ int ModalSolver::solveQuadratised()
         gDotV += savGradient_[j] * savResponse_[j];
     }
     const double gDotR = gDotB / (1.0 + 0.5 * gDotV);  // g . R from Sherman-Morrison
-    const double mean = xiPrev_ + 0.5 * gDotR;          // (xi^{n+1} + xi^{n-1}) / 2
+    const double mean = xiPrev_ + 0.5 * gDotR;         // (xi^{n+1} + xi^{n-1}) / 2
     for (int j = 0; j < P_; ++j)
         slope_[j] = savGradient_[j] * mean / contacts_[j].weight;  // f = F / w = -g mean / w; G = -f
     const double xiNext = xiPrev_ + gDotR;
@@ -547,8 +548,8 @@ void ModalSolver::stepPaired()
     if (layout_ == Layout::pairBoundary)
     {
         double u1 = 0.0;
-        kernels::pairStep(a_, e_, qPrev_, q_, settled_, h_, phi, c1_, c2_,
-                          Mpad_, pickupTilde_, u1, pairPickup2_, pairContact2_);
+        kernels::pairStep(a_, e_, qPrev_, q_, settled_, h_, phi, c1_, c2_, Mpad_, pickupTilde_, u1, pairPickup2_,
+                          pairContact2_);
         double y = pickupTilde_;
         c1_ = c2_ = 0.0;
         if (P_ == 1)
@@ -627,7 +628,8 @@ void ModalSolver::stepSingle()
         else
             for (int j = 0; j < P_; ++j)
                 if (slope_[j] != 0.0)
-                    kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], phi_ + size_t(j) * stride_, next, Mpad_);
+                    kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], phi_ + size_t(j) * stride_, next,
+                                  Mpad_);
         const auto& A = stringCoupling_;
         for (int j = 0; j < P_; ++j)
         {

@@ -144,22 +144,22 @@ private:
         pairBoundary,
         pairMiddle
     };
-    void stepSingle();      // one pass per step: many points, the transform path, or a force
-    void stepPaired();      // one pass per two steps: at most one point (projection)
-    void toSingle();        // RT: rewrites a paired layout as the single one
+    void stepSingle();                    // one pass per step: many points, the transform path, or a force
+    void stepPaired();                    // one pass per two steps: at most one point (projection)
+    void toSingle();                      // RT: rewrites a paired layout as the single one
     double solveOnePoint(double uTilde);  // contact at the single point; returns its slope G
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     void compact(const std::vector<double>& current, const std::vector<double>& previous);
     void restartFromModes();  // RT: the state derived from q_, qPrev_ (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
 
-    int M_ = 0;   // modes of the model
-    int Ma_ = 0;  // modes stepped (active)
+    int M_ = 0;     // modes of the model
+    int Ma_ = 0;    // modes stepped (active)
     int Mpad_ = 0;  // Ma_ rounded up to the kernels' block: the padding modes are zero and stay zero
     int P_ = 0;
     double dt_ = 0.0;
     double mu_ = 0.0;
-    double forceScale_ = 0.0;  // dt^2 / mu
+    double forceScale_ = 0.0;                    // dt^2 / mu
     std::vector<ExactModeCoefficients> coeffs_;  // all M modes
     std::vector<double> omega_, sigma_, pickupWeights_;
     std::vector<double> shapes_;  // P x M, phi_p(x_j) for every mode (projection path)
@@ -169,7 +169,7 @@ private:
     std::vector<int> active_;
     std::vector<ExactModeCoefficients> activeCoeffs_, activeCoeffsReleased_;
     std::vector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
-    std::vector<int> indexOfMode_;  // active index of mode p, or -1
+    std::vector<int> indexOfMode_;                       // active index of mode p, or -1
     // The stepping arrays live in one 64-byte-aligned block, each `stride_` doubles apart, with the
     // stride staggered modulo 4 KiB: arrays exactly 4 KiB apart make every load alias the stores
     // of the pass (measured: 501 modes padded to 512 ran 1.7x slower).
@@ -183,7 +183,7 @@ private:
     double* eReleased_ = nullptr;
     double* h_ = nullptr;
     double* phiE_ = nullptr;  // excitation shape over the active modes
-    double* phi_ = nullptr;  // P rows, stride_ apart
+    double* phi_ = nullptr;   // P rows, stride_ apart
     // Single path: q_ = q^n, qPrev_ = q^{n-1}.
     // Paired path (see kernels::pairStep): qPrev_ = X, q_ = Y, settled_ = q^m, with the scalar
     // corrections c1_, c2_; after the first step of a pair q^n = X + c1 phi, q^{n-1} = settled_;
@@ -211,9 +211,9 @@ private:
     int solveContacts();                     // slope_ from s_, b_ by the configured method
     int solveQuadratised();
     ContactMethod method_ = ContactMethod::energyConserving;
-    Eigen::MatrixXd pointCoupling_;          // A' W^{-1}: response at the points per newton
+    Eigen::MatrixXd pointCoupling_;  // A' W^{-1}: response at the points per newton
     std::vector<double> savGradient_, savResponse_;
-    double xi_ = 0.0, xiPrev_ = 0.0;         // quadratised contact: xi = sqrt(2 V)
+    double xi_ = 0.0, xiPrev_ = 0.0;  // quadratised contact: xi = sqrt(2 V)
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_;
     std::vector<ContactPoint> contacts_;
     ContactSystem system_;

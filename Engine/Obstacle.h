@@ -11,19 +11,19 @@ namespace jawari
 
 enum class ObstacleType
 {
-    point,     // one contact point of weight `width` (metres of string it stands for)
-    profile,   // sampled heights, linear interpolation between the samples
-    parabola   // g = height - curvature/2 (x - position)^2 over `width` centred on position
+    point,    // one contact point of weight `width` (metres of string it stands for)
+    profile,  // sampled heights, linear interpolation between the samples
+    parabola  // g = height - curvature/2 (x - position)^2 over `width` centred on position
 };
 
 struct Obstacle
 {
     ObstacleType type = ObstacleType::point;
     ContactLaw law;
-    double position = 0.501;  // point: where; parabola: apex (m)
-    double height = 0.0;      // point, parabola apex (m)
-    double width = 1e-3;      // point: weight; parabola: extent (m)
-    double curvature = 0.0;   // parabola, 1/m
+    double position = 0.501;            // point: where; parabola: apex (m)
+    double height = 0.0;                // point, parabola apex (m)
+    double width = 1e-3;                // point: weight; parabola: extent (m)
+    double curvature = 0.0;             // parabola, 1/m
     std::vector<double> profileX;       // profile sample positions, strictly increasing (m)
     std::vector<double> profileHeight;  // profile heights (m)
 
@@ -40,7 +40,7 @@ struct ContactPoint
     double weight = 0.0;    // m of string this point stands for
     double height = 0.0;    // g at the point (m)
     ContactLaw law;
-    int gridNode = -1;      // i when position is the node x_i = i L / N, else -1
+    int gridNode = -1;  // i when position is the node x_i = i L / N, else -1
 };
 
 // A point obstacle becomes one contact point at its position with weight `width`; a distributed

@@ -4,8 +4,8 @@
 #include "Denormals.h"
 #include "ModalSolver.h"
 #include "Quality.h"
-#include "Voice.h"
 #include "Resampler.h"
+#include "Voice.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +48,8 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
             // Force on the termination at x = 0: T u_x(0) - EI u_xxx(0) = sum_p q_p phi_p'(0) mu w_p^2 / k_p^2
             // (mu w_p^2 = T k_p^2 + EI k_p^4 for the law; measured frequencies keep the modal stiffness).
             const double k = p * std::numbers::pi / L;
-            c.pickupWeights[p - 1] = std::sqrt(2.0 / L) * str.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
+            c.pickupWeights[p - 1] =
+                std::sqrt(2.0 / L) * str.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
         }
         else
             c.pickupWeights[p - 1] = modeShape(L, p, scene.pickup.position);
@@ -60,8 +61,8 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
 // Steps the solver, handing each internal sample of the pickup quantity to `sink`, and each
 // step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt.
 template <typename Sink, typename AfterStep>
-void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderStats& stats, const RenderOptions& options,
-         Sink&& sink, AfterStep&& afterStep)
+void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderStats& stats,
+         const RenderOptions& options, Sink&& sink, AfterStep&& afterStep)
 {
     ScopedFlushDenormals noDenormals;
     const double dt = solver.timeStep();
@@ -155,7 +156,8 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
             if (options.logEnergy && m + i < count)
             {
                 const auto H = voice.solver().energy();
-                result.energy.push_back({double(m + i + 1) / result.outputRateHz, H.total, H.contact, iterations, most});
+                result.energy.push_back(
+                    {double(m + i + 1) / result.outputRateHz, H.total, H.contact, iterations, most});
             }
         }
         stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, voice.takeMaxPenetration());
@@ -177,7 +179,8 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
 
 }  // namespace
 
-std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options, RenderStats* statsOut)
+std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options,
+                                   RenderStats* statsOut)
 {
     validateScene(scene);
     auto setup = referenceSetup(scene, options.path);
@@ -187,7 +190,9 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     describe(solver, setup.rateHz, stats);
     std::vector<double> out;
     out.reserve(static_cast<size_t>(steps));
-    run(solver, scene.pickup.quantity, steps, stats, options, [&](double v) { out.push_back(v); }, [](long long, int) {});
+    run(
+        solver, scene.pickup.quantity, steps, stats, options, [&](double v) { out.push_back(v); },
+        [](long long, int) {});
     if (statsOut)
         *statsOut = stats;
     return out;
@@ -239,7 +244,8 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
         if (n < target)
             return;
         const auto H = solver.energy();
-        result.energy.push_back({(double(n) + 0.5) / setup.rateHz, H.total, H.contact, iterationsSince, iterationsMaxSince});
+        result.energy.push_back(
+            {(double(n) + 0.5) / setup.rateHz, H.total, H.contact, iterationsSince, iterationsMaxSince});
         iterationsSince = 0;
         iterationsMaxSince = 0;
         ++nextLogged;

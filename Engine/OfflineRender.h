@@ -13,10 +13,10 @@ namespace jawari
 
 struct EnergySample
 {
-    double timeSeconds = 0.0;     // (n - 1/2) dt: H^{n-1/2} lives between steps
-    double energy = 0.0;          // H, J
-    double contactEnergy = 0.0;   // its contact part, J
-    long newtonIterations = 0;    // summed over the internal steps since the previous sample
+    double timeSeconds = 0.0;    // (n - 1/2) dt: H^{n-1/2} lives between steps
+    double energy = 0.0;         // H, J
+    double contactEnergy = 0.0;  // its contact part, J
+    long newtonIterations = 0;   // summed over the internal steps since the previous sample
     int newtonMaxPerStep = 0;
 };
 

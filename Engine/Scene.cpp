@@ -31,7 +31,9 @@ std::string typeName(const json& j)
 class ObjectReader
 {
 public:
-    ObjectReader(const json& object, std::string path) : object_(object), path_(std::move(path))
+    ObjectReader(const json& object, std::string path)
+        : object_(object)
+        , path_(std::move(path))
     {
         if (!object_.is_object())
             throw SceneError(path_.empty() ? "(top level)" : path_, "must be an object, got " + typeName(object_));
@@ -85,7 +87,8 @@ public:
             if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
                 return static_cast<long long>(d);
         }
-        throw SceneError(at(key), "must be a whole number, got " + (v.is_number() ? show(v.get<double>()) : typeName(v)));
+        throw SceneError(at(key),
+                         "must be a whole number, got " + (v.is_number() ? show(v.get<double>()) : typeName(v)));
     }
     std::string string(const std::string& key, const std::string& fallback, std::initializer_list<const char*> allowed)
     {
@@ -155,8 +158,8 @@ ContactLaw readContactLaw(ObjectReader& r)
 void requireOnString(const std::string& path, double x, double L)
 {
     if (!(x > 0.0 && x < L))
-        throw SceneError(path, "must lie on the string, strictly between 0 and length " + show(L) + " m (got "
-                                   + show(x) + ")");
+        throw SceneError(path, "must lie on the string, strictly between 0 and length " + show(L) + " m (got " + show(x)
+                                   + ")");
 }
 
 void readString(const json& j, Scene& scene)
@@ -238,9 +241,9 @@ Obstacle readObstacle(const json& j, const std::string& path, double L)
         ob.width = r.positive("width", 0.006);
         ob.curvature = r.nonNegative("curvature", 1.0);
         if (!(ob.supportBegin() >= 0.0 && ob.supportEnd() <= L))
-            throw SceneError(r.at("width"), "the parabola [position - width/2, position + width/2] = [" +
-                                                show(ob.supportBegin()) + ", " + show(ob.supportEnd()) +
-                                                "] m must lie on the string [0, " + show(L) + "]");
+            throw SceneError(r.at("width"), "the parabola [position - width/2, position + width/2] = ["
+                                                + show(ob.supportBegin()) + ", " + show(ob.supportEnd())
+                                                + "] m must lie on the string [0, " + show(L) + "]");
     }
     else
     {
@@ -260,7 +263,8 @@ Obstacle readObstacle(const json& j, const std::string& path, double L)
         {
             const std::string here = r.at("x") + "[" + std::to_string(i) + "]";
             if (!(ob.profileX[i] >= 0.0 && ob.profileX[i] <= L))
-                throw SceneError(here, "must lie on the string [0, " + show(L) + "] m (got " + show(ob.profileX[i]) + ")");
+                throw SceneError(here,
+                                 "must lie on the string [0, " + show(L) + "] m (got " + show(ob.profileX[i]) + ")");
             if (i > 0 && !(ob.profileX[i] > ob.profileX[i - 1]))
                 throw SceneError(here, "must be greater than the previous x (x must increase strictly)");
         }
@@ -327,18 +331,20 @@ void validateScene(const Scene& scene)
     if (sim.modes && (*sim.modes < 1 || *sim.modes > kMaxModes))
         throw SceneError("simulation.modes", "must be between 1 and " + std::to_string(kMaxModes) + " (got "
                                                  + std::to_string(*sim.modes) + ")");
-    if (!(std::isfinite(sim.durationSeconds) && sim.durationSeconds > 0.0 && sim.durationSeconds <= kMaxDurationSeconds))
+    if (!(std::isfinite(sim.durationSeconds) && sim.durationSeconds > 0.0
+          && sim.durationSeconds <= kMaxDurationSeconds))
         throw SceneError("simulation.duration", "must be > 0 and at most " + show(kMaxDurationSeconds) + " s (got "
                                                     + show(sim.durationSeconds) + ")");
     if (sim.outputRateHz < 8000 || sim.outputRateHz > 384000)
-        throw SceneError("simulation.output_rate", "must be between 8000 and 384000 Hz (got "
-                                                       + std::to_string(sim.outputRateHz) + ")");
+        throw SceneError("simulation.output_rate",
+                         "must be between 8000 and 384000 Hz (got " + std::to_string(sim.outputRateHz) + ")");
     if (runsVoice(sim.method) && sim.rateHz)
     {
         const double ratio = *sim.rateHz / sim.outputRateHz;
         if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1 || std::round(ratio) > 256)
-            throw SceneError("simulation.rate", "the voice's methods run at a whole multiple (1 to 256) of the output rate "
-                                                    + std::to_string(sim.outputRateHz) + " Hz (got " + show(*sim.rateHz) + " Hz)");
+            throw SceneError("simulation.rate",
+                             "the voice's methods run at a whole multiple (1 to 256) of the output rate "
+                                 + std::to_string(sim.outputRateHz) + " Hz (got " + show(*sim.rateHz) + " Hz)");
     }
     const double rate = sim.rateHz.value_or(runsVoice(sim.method) ? sim.outputRateHz : kReferenceRateHz);
     if (rate < sim.outputRateHz)
@@ -415,7 +421,8 @@ Scene parseScene(const std::string& jsonText)
     if (top.has("simulation"))
     {
         ObjectReader r(top.raw("simulation"), "simulation");
-        scene.simulation.method = *methodFromName(r.string("method", "reference", {"reference", "realtime", "quadratised", "penalty"}));
+        scene.simulation.method =
+            *methodFromName(r.string("method", "reference", {"reference", "realtime", "quadratised", "penalty"}));
         if (r.has("rate"))
             scene.simulation.rateHz = r.positive("rate", 0.0);
         if (const auto m = r.integer("modes"))
@@ -436,7 +443,8 @@ Scene parseScene(const std::string& jsonText)
         if (const auto o = r.integer("output_rate"))
         {
             if (*o < 8000 || *o > 384000)
-                throw SceneError(r.at("output_rate"), "must be between 8000 and 384000 Hz (got " + std::to_string(*o) + ")");
+                throw SceneError(r.at("output_rate"),
+                                 "must be between 8000 and 384000 Hz (got " + std::to_string(*o) + ")");
             scene.simulation.outputRateHz = static_cast<int>(*o);
         }
         r.rejectUnknown();

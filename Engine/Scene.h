@@ -18,9 +18,9 @@ class SceneError : public std::runtime_error
 {
 public:
     SceneError(std::string path, const std::string& message)
-        : std::runtime_error(path.empty() ? message : path + ": " + message), path_(std::move(path))
-    {
-    }
+        : std::runtime_error(path.empty() ? message : path + ": " + message)
+        , path_(std::move(path))
+    {}
     const std::string& path() const { return path_; }
 
 private:
@@ -44,8 +44,8 @@ enum class Method
 
 struct Excitation
 {
-    double position = 0.501;   // m
-    double amplitude = 1.5e-3; // m, triangular shape, zero velocity
+    double position = 0.501;    // m
+    double amplitude = 1.5e-3;  // m, triangular shape, zero velocity
 };
 
 struct Pickup
@@ -85,7 +85,10 @@ Scene loadSceneFile(const std::string& path);
 void validateScene(const Scene& scene);
 
 const char* methodName(Method m);
-inline bool runsVoice(Method m) { return m != Method::reference; }
+inline bool runsVoice(Method m)
+{
+    return m != Method::reference;
+}
 std::optional<Method> methodFromName(const std::string& name);
 const char* quantityName(PickupQuantity q);
 const char* quantityUnit(PickupQuantity q);

@@ -25,11 +25,11 @@ double valetteInverseQ(const StringParameters& string, double frequencyHz)
     const auto& d = string.damping;
     const double mu = string.linearDensity;
     const double T = string.tensionNewtons;
-    const double R = 2.0 * pi * d.etaAir
-                     + 2.0 * pi * string.diameterMetres * std::sqrt(pi * d.etaAir * d.rhoAir * frequencyHz);
+    const double R =
+        2.0 * pi * d.etaAir + 2.0 * pi * string.diameterMetres * std::sqrt(pi * d.etaAir * d.rhoAir * frequencyHz);
     const double air = R / (2.0 * pi * mu * frequencyHz);
-    const double viscoelastic = 4.0 * pi * pi * mu * string.bendingStiffness() * d.deltaVe * frequencyHz
-                                * frequencyHz / (T * T);
+    const double viscoelastic =
+        4.0 * pi * pi * mu * string.bendingStiffness() * d.deltaVe * frequencyHz * frequencyHz / (T * T);
     return air + viscoelastic + d.qTeInv;
 }
 
@@ -90,8 +90,7 @@ double modeShape(double lengthMetres, int p, double x)
     return std::sqrt(2.0 / lengthMetres) * sinPi(p * (x / lengthMetres));
 }
 
-std::vector<double> pluckModalShape(double lengthMetres, int modeCount, double pluckPosition,
-                                    double amplitudeMetres)
+std::vector<double> pluckModalShape(double lengthMetres, int modeCount, double pluckPosition, double amplitudeMetres)
 {
     constexpr double pi = std::numbers::pi;
     const double L = lengthMetres;

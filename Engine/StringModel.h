@@ -74,7 +74,6 @@ double modeShape(double lengthMetres, int p, double x);
 
 // Modal coefficients q_p (p = 1..M) of the triangular pluck of the given amplitude at x_e:
 // q_p = sqrt(2/L) A L^3 sin(p pi x_e/L) / (p^2 pi^2 x_e (L - x_e)), the exact projection.
-std::vector<double> pluckModalShape(double lengthMetres, int modeCount, double pluckPosition,
-                                    double amplitudeMetres);
+std::vector<double> pluckModalShape(double lengthMetres, int modeCount, double pluckPosition, double amplitudeMetres);
 
 }  // namespace jawari

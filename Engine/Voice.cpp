@@ -49,7 +49,8 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         if (config.quantity == PickupQuantity::force)
         {
             const double k = p * std::numbers::pi / L;
-            c.pickupWeights[p - 1] = std::sqrt(2.0 / L) * s.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
+            c.pickupWeights[p - 1] =
+                std::sqrt(2.0 / L) * s.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
         }
         else
             c.pickupWeights[p - 1] = modeShape(L, p, config.pickupPosition);
@@ -58,12 +59,12 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
 }
 
 Voice::Voice(const VoiceConfig& config)
-    : solver_(voiceSolverConfig(config)),
-      decimator_(config.oversampling, config.hostRateHz),
-      oversampling_(config.oversampling),
-      hostRate_(config.hostRateHz),
-      quantity_(config.quantity),
-      dt_(1.0 / (config.oversampling * config.hostRateHz))
+    : solver_(voiceSolverConfig(config))
+    , decimator_(config.oversampling, config.hostRateHz)
+    , oversampling_(config.oversampling)
+    , hostRate_(config.hostRateHz)
+    , quantity_(config.quantity)
+    , dt_(1.0 / (config.oversampling * config.hostRateHz))
 {
     block_.assign(oversampling_, 0.0);
     lengthMetres_ = config.string.lengthMetres;

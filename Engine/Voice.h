@@ -24,12 +24,12 @@ struct VoiceConfig
     double excitationPosition = 0.501;  // where pluck() pushes (m)
     double pickupPosition = 0.992;      // m
     PickupQuantity quantity = PickupQuantity::displacement;
-    int modes = 200;                    // M
-    int oversampling = 8;               // R / host rate
+    int modes = 200;       // M
+    int oversampling = 8;  // R / host rate
     double hostRateHz = 48000.0;
-    double releaseSeconds = 0.25;       // note-off: every mode gains damping ln(1000)/releaseSeconds
-    double pluckSeconds = 1.5e-3;       // the pluck's force pulse (raised cosine) lasts this long
-    double pluckForceNewtons = 2.0;     // its peak force at velocity 1
+    double releaseSeconds = 0.25;    // note-off: every mode gains damping ln(1000)/releaseSeconds
+    double pluckSeconds = 1.5e-3;    // the pluck's force pulse (raised cosine) lasts this long
+    double pluckForceNewtons = 2.0;  // its peak force at velocity 1
     // The dropped modes' static compliance in series with the contact (DESIGN.md section 5). Off,
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
@@ -52,9 +52,9 @@ public:
     // pluck), as the reference starts.
     void setInitialShape(double position, double amplitudeMetres);
 
-    void pluck(double velocity);  // RT: a force pulse at the excitation point; works while sounding
-    void release();               // RT: note-off, the string rings down over releaseSeconds
-    void unrelease();             // RT: back to the string's own damping (a new note)
+    void pluck(double velocity);                // RT: a force pulse at the excitation point; works while sounding
+    void release();                             // RT: note-off, the string rings down over releaseSeconds
+    void unrelease();                           // RT: back to the string's own damping (a new note)
     void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
     void takeStateFrom(Voice& other);           // RT: same string and modes, new obstacles/contact
 

@@ -135,10 +135,12 @@ void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySampl
         }
         out.flush();
         if (out.getStatus().failed())
-            throw std::runtime_error("writing the energy log failed: " + out.getStatus().getErrorMessage().toStdString());
+            throw std::runtime_error("writing the energy log failed: "
+                                     + out.getStatus().getErrorMessage().toStdString());
     }
     if (!temp.overwriteTargetFileWithTemporary())
-        throw std::runtime_error("cannot move the finished energy log to '" + target.getFullPathName().toStdString() + "'");
+        throw std::runtime_error("cannot move the finished energy log to '" + target.getFullPathName().toStdString()
+                                 + "'");
 }
 
 int run(int argc, char* argv[])
@@ -171,18 +173,21 @@ int run(int argc, char* argv[])
     if (!output)
         throw UsageError("no output file: give -o OUT.wav");
 
-    auto scene = jawari::loadSceneFile(juce::File::getCurrentWorkingDirectory().getChildFile(positional[0]).getFullPathName().toStdString());
+    auto scene = jawari::loadSceneFile(
+        juce::File::getCurrentWorkingDirectory().getChildFile(positional[0]).getFullPathName().toStdString());
     if (method)
     {
         const auto m = jawari::methodFromName(method->toStdString());
         if (!m)
-            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: reference, realtime, quadratised, penalty)");
+            throw UsageError("--method: unknown method '" + method->toStdString()
+                             + "' (expected: reference, realtime, quadratised, penalty)");
         // The scene's modes and rate were chosen for its own method: switching between the
         // reference and the voice drops them (the new method's defaults or automatic choice apply)
         // unless the command line gives them too.
         const bool switchesSolver = jawari::runsVoice(*m) != jawari::runsVoice(scene.simulation.method);
         if (switchesSolver && !quiet && (scene.simulation.modes || scene.simulation.rateHz) && !(modes && rate))
-            std::fprintf(stderr, "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
+            std::fprintf(stderr,
+                         "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
                          jawari::methodName(*m), jawari::methodName(scene.simulation.method));
         if (switchesSolver)
         {
@@ -214,13 +219,15 @@ int run(int argc, char* argv[])
     const auto cwd = juce::File::getCurrentWorkingDirectory();
     const juce::File wavFile = cwd.getChildFile(*output);
     if (!wavFile.getParentDirectory().isDirectory())
-        throw UsageError("-o: the folder '" + wavFile.getParentDirectory().getFullPathName().toStdString() + "' does not exist");
+        throw UsageError("-o: the folder '" + wavFile.getParentDirectory().getFullPathName().toStdString()
+                         + "' does not exist");
     std::optional<juce::File> energyFile;
     if (energyPath)
     {
         energyFile = cwd.getChildFile(*energyPath);
         if (!energyFile->getParentDirectory().isDirectory())
-            throw UsageError("--energy: the folder '" + energyFile->getParentDirectory().getFullPathName().toStdString() + "' does not exist");
+            throw UsageError("--energy: the folder '" + energyFile->getParentDirectory().getFullPathName().toStdString()
+                             + "' does not exist");
     }
 
     jawari::RenderOptions options;
@@ -256,12 +263,13 @@ int run(int argc, char* argv[])
                     result.output.size(), result.outputRateHz, raw ? "32-bit float, SI units" : "24-bit, -1 dBFS peak",
                     peak, jawari::quantityUnit(scene.pickup.quantity),
                     (" " + std::string(jawari::quantityName(scene.pickup.quantity))).c_str());
-        std::printf("%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
-                    "max penetration %.3g m\n",
-                    jawari::methodName(scene.simulation.method), st.modes, st.internalRateHz,
-                    st.transformPath ? "DST-I" : "projection", st.steps, st.cpuSeconds,
-                    scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9), st.newtonIterationsMax,
-                    st.maxPenetrationMetres);
+        std::printf(
+            "%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
+            "max penetration %.3g m\n",
+            jawari::methodName(scene.simulation.method), st.modes, st.internalRateHz,
+            st.transformPath ? "DST-I" : "projection", st.steps, st.cpuSeconds,
+            scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9), st.newtonIterationsMax,
+            st.maxPenetrationMetres);
         if (energyFile)
             std::printf("energy log: %s (%zu rows)\n", energyFile->getFullPathName().toRawUTF8(), result.energy.size());
     }

@@ -109,8 +109,10 @@ TEST_CASE("the coupled P x P contact solve converges on a dense coupling")
         }
         most = std::max(most, system.solve(s.data(), b.data(), r.data(), G.data()));
         Eigen::VectorXd Gv = Eigen::Map<Eigen::VectorXd>(G.data(), P);
-        Eigen::VectorXd residual = Eigen::Map<Eigen::VectorXd>(r.data(), P) + A * Gv - Eigen::Map<Eigen::VectorXd>(b.data(), P);
-        const double scale = Eigen::Map<Eigen::VectorXd>(b.data(), P).lpNorm<Eigen::Infinity>() + (A * Gv).lpNorm<Eigen::Infinity>();
+        Eigen::VectorXd residual =
+            Eigen::Map<Eigen::VectorXd>(r.data(), P) + A * Gv - Eigen::Map<Eigen::VectorXd>(b.data(), P);
+        const double scale =
+            Eigen::Map<Eigen::VectorXd>(b.data(), P).lpNorm<Eigen::Infinity>() + (A * Gv).lpNorm<Eigen::Infinity>();
         INFO("trial " << trial);
         CHECK(residual.lpNorm<Eigen::Infinity>() <= 1e-12 * scale);
     }

@@ -60,9 +60,9 @@ TEST_CASE("decimator is flat within 0.1 dB to 20 kHz with aliases at least 90 dB
             const double internalNyquist = 0.5 * factor * host;
             for (double f = 0.5 * host; f < internalNyquist; f += (internalNyquist - 0.5 * host) / 53.0)
                 worstAliasDb = std::max(worstAliasDb, 20.0 * std::log10(run(d, host, f).peak + 1e-300));
-            INFO("host " << host << " factor " << factor << ": " << d.length() << " taps, latency " << d.latencyHostSamples()
-                         << " host samples, passband to " << d.passbandHz() << " Hz, worst deviation " << worstPass
-                         << ", worst alias " << worstAliasDb << " dB");
+            INFO("host " << host << " factor " << factor << ": " << d.length() << " taps, latency "
+                         << d.latencyHostSamples() << " host samples, passband to " << d.passbandHz()
+                         << " Hz, worst deviation " << worstPass << ", worst alias " << worstAliasDb << " dB");
             CHECK(worstPass < 1e-4);  // far inside 0.1 dB (1.16e-2)
             CHECK(worstAliasDb < -90.0);
         }

@@ -46,7 +46,8 @@ TEST_CASE("lossless contact with a point obstacle conserves energy to 1e-9 over 
     ModalSolver solver(config);
     solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, 1001, 0.501, 1.5e-3));
     const auto d = losslessDrift(solver, 100000);
-    INFO("relative drift " << d.worst << ", contact steps " << d.contactSteps << ", peak contact energy " << d.largestContactEnergy);
+    INFO("relative drift " << d.worst << ", contact steps " << d.contactSteps << ", peak contact energy "
+                           << d.largestContactEnergy);
     CHECK(d.contactSteps > 10000);
     CHECK(d.largestContactEnergy > 0.0);
     CHECK(d.worst < 1e-9);
@@ -116,7 +117,8 @@ TEST_CASE("with losses the energy never increases and the balance holds step by 
         worstBalance = std::max(worstBalance, std::abs(H - Hbefore + loss) / H0);
         previousH = H;
     }
-    INFO("largest step increase " << worstIncrease << ", worst balance error " << worstBalance << ", contact steps " << contactSteps);
+    INFO("largest step increase " << worstIncrease << ", worst balance error " << worstBalance << ", contact steps "
+                                  << contactSteps);
     CHECK(contactSteps > 1000);
     CHECK(worstIncrease <= 1e-13);
     CHECK(worstBalance < 1e-11);

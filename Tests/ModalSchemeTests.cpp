@@ -35,7 +35,8 @@ TEST_CASE("Valette's damping law gives the paper's quality factors")
     const double f = 1000.0;
     const double EI = 1.78e-5 * 180.5 * 1.002 * 1.002 / (pi * pi);
     const double R = 2 * pi * 1.8e-5 + 2 * pi * 0.43e-3 * std::sqrt(pi * 1.8e-5 * 1.2 * f);
-    const double expected = R / (2 * pi * 1.17e-3 * f) + 4 * pi * pi * 1.17e-3 * EI * 0.006 * f * f / (180.5 * 180.5) + 1.38e-4;
+    const double expected =
+        R / (2 * pi * 1.17e-3 * f) + 4 * pi * pi * 1.17e-3 * EI * 0.006 * f * f / (180.5 * 180.5) + 1.38e-4;
     CHECK(valetteInverseQ(s, f) == Approx(expected).epsilon(1e-14));
     const auto t = buildModalTable(s, 20);
     CHECK(t.sigma[4] == Approx(pi * t.frequencyHz[4] * valetteInverseQ(s, t.frequencyHz[4])).epsilon(1e-14));
@@ -95,7 +96,8 @@ TEST_CASE("without contact every mode follows the analytic damped solution to 1e
             double worst = 0.0;
             for (int p = 0; p < M; ++p)
             {
-                const double exact = freeDampedMotion(q0[p], 0.0, config.modes.omega[p], config.modes.sigma[p], steps / rate);
+                const double exact =
+                    freeDampedMotion(q0[p], 0.0, config.modes.omega[p], config.modes.sigma[p], steps / rate);
                 worst = std::max(worst, std::abs(q[p] - exact) / std::max(std::abs(q0[p]), 1e-9 * largest));
             }
             INFO("law " << int(law) << " rate " << rate << " worst relative error " << worst);

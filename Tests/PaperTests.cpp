@@ -55,7 +55,8 @@ TEST_CASE("paper-tanpura has a descending formant and decays faster than paper-c
     const double early = spectralCentroid(y, 48000, 4800, window, 10.5 * f0, 20000);
     const double middle = spectralCentroid(y, 48000, 24000, window, 10.5 * f0, 20000);
     const double late = spectralCentroid(y, 48000, 43200, window, 10.5 * f0, 20000);
-    INFO("centroid above the 10th partial: " << early << " Hz (0.1 s), " << middle << " Hz (0.5 s), " << late << " Hz (0.9 s)");
+    INFO("centroid above the 10th partial: " << early << " Hz (0.1 s), " << middle << " Hz (0.5 s), " << late
+                                             << " Hz (0.9 s)");
     CHECK(middle < early);
     CHECK(late < middle);
     CHECK(late < 0.8 * early);

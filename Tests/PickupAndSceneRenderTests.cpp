@@ -80,7 +80,8 @@ TEST_CASE("several obstacles at once - a point and a profile and a parabola - sh
         REQUIRE(r.energy[i].energy <= r.energy[i - 1].energy * (1.0 + 1e-12));
         contactSamples += r.energy[i].contactEnergy > 0.0;
     }
-    INFO("peak " << peak << ", samples in contact " << contactSamples << ", max penetration " << r.stats.maxPenetrationMetres);
+    INFO("peak " << peak << ", samples in contact " << contactSamples << ", max penetration "
+                 << r.stats.maxPenetrationMetres);
     CHECK(contactSamples > 100);
     CHECK(peak < 2e-3);
     CHECK(r.stats.maxPenetrationMetres < 1e-5);

@@ -44,9 +44,9 @@ void* operator new(std::size_t size, std::align_val_t alignment)
 {
     if (counting)
         ++allocations;
-    if (void* p = std::aligned_alloc(static_cast<std::size_t>(alignment), (size + static_cast<std::size_t>(alignment) - 1)
-                                                                               / static_cast<std::size_t>(alignment)
-                                                                               * static_cast<std::size_t>(alignment)))
+    if (void* p = std::aligned_alloc(static_cast<std::size_t>(alignment),
+                                     (size + static_cast<std::size_t>(alignment) - 1)
+                                         / static_cast<std::size_t>(alignment) * static_cast<std::size_t>(alignment)))
         return p;
     throw std::bad_alloc();
 }
@@ -96,7 +96,8 @@ TEST_CASE("Voice process and pluck and release and takeStateFrom never allocate"
     profile.profileX = {0.0, 0.01, 0.02};
     profile.profileHeight = {-2e-5, 0.0, -2e-5};
     sets[1] = {profile};
-    sets[2] = {test::pointObstacle(0.30017, -2e-5, 2e-3, 1e11, 1.5), test::pointObstacle(0.30391, -2e-5, 2e-3, 1e11, 1.5)};
+    sets[2] = {test::pointObstacle(0.30017, -2e-5, 2e-3, 1e11, 1.5),
+               test::pointObstacle(0.30391, -2e-5, 2e-3, 1e11, 1.5)};
     for (const auto& obstacles : sets)
     {
         VoiceConfig config;

@@ -55,8 +55,8 @@ TEST_CASE("jawari-render writes a WAV and an energy log for a good scene")
     const auto dir = scratch();
     const auto wav = dir / "centre.wav";
     const auto csv = dir / "centre.csv";
-    const auto o = render(jawari::test::resource("Scenes/paper-centre.json") + " -o " + wav.string() +
-                          " --duration 0.02 --rate 1e6 --modes 400 --raw --energy " + csv.string());
+    const auto o = render(jawari::test::resource("Scenes/paper-centre.json") + " -o " + wav.string()
+                          + " --duration 0.02 --rate 1e6 --modes 400 --raw --energy " + csv.string());
     INFO(o.output);
     REQUIRE(o.status == 0);
     REQUIRE(fs::exists(wav));
@@ -130,11 +130,13 @@ TEST_CASE("jawari-render warns when the initial shape starts inside an obstacle 
 {
     const auto dir = scratch();
     const auto wav = dir / "inside.wav";
-    const auto o = render(jawari::test::resource("../Tests/scenes/corpus/render-pushed-1cm-in.json") + " -o " + wav.string());
+    const auto o =
+        render(jawari::test::resource("../Tests/scenes/corpus/render-pushed-1cm-in.json") + " -o " + wav.string());
     INFO(o.output);
     CHECK(o.status == 0);
     CHECK(fs::exists(wav));
     CHECK_THAT(o.output, Catch::Matchers::Contains("warning: the initial shape starts inside an obstacle"));
-    const auto quietRun = render(jawari::test::resource("Scenes/paper-centre.json") + " -o " + wav.string() + " --duration 0.01");
+    const auto quietRun =
+        render(jawari::test::resource("Scenes/paper-centre.json") + " -o " + wav.string() + " --duration 0.01");
     CHECK_THAT(quietRun.output, !Catch::Matchers::Contains("warning"));
 }

@@ -55,7 +55,8 @@ TEST_CASE("every scene of the malformed and extreme corpus is rejected by name o
                      << result.stats.newtonIterationsMax);
         CHECK(finite);
         CHECK(peak < bound);
-        CHECK(result.output.size() == size_t(std::llround(scene.simulation.durationSeconds * scene.simulation.outputRateHz)));
+        CHECK(result.output.size()
+              == size_t(std::llround(scene.simulation.durationSeconds * scene.simulation.outputRateHz)));
         ++renders;
     }
     CHECK(errors >= 40);

@@ -73,8 +73,8 @@ TEST_CASE("the voice starts bounded when its grid is finer than its rate (M = 10
     double peak = 0.0;
     for (double v : voice.output)
         peak = std::max(peak, std::abs(v));
-    INFO("H(0): reference " << reference.energy.front().energy << " J, voice " << voice.energy.front().energy << " J; peak "
-                            << peak);
+    INFO("H(0): reference " << reference.energy.front().energy << " J, voice " << voice.energy.front().energy
+                            << " J; peak " << peak);
     CHECK(voice.energy.front().energy < 1.01 * reference.energy.front().energy);
     CHECK(peak < 1e-4);
     for (size_t i = 1; i < voice.energy.size(); ++i)
@@ -117,7 +117,11 @@ TEST_CASE("the automatic quality gives the standard setting's modes and rate for
     // f_p = p f0 sqrt(1 + B p^2) <= 48 kHz: p = 190 (47.7 kHz), 191 would be 48.1 kHz.
     CHECK(q.modes == 190);
     CHECK(q.oversampling == 8);
-    const auto r = renderScene([&] { auto s = scene; s.simulation.durationSeconds = 0.05; return s; }());
+    const auto r = renderScene([&] {
+        auto s = scene;
+        s.simulation.durationSeconds = 0.05;
+        return s;
+    }());
     CHECK(r.stats.modes == 190);
     CHECK(r.stats.internalRateHz == 384000.0);
 }
@@ -178,7 +182,8 @@ TEST_CASE("with the residual compliance in series the energy only ever decreases
             worstIncrease = std::max(worstIncrease, (H - previous) / H0);
             previous = H;
         }
-        INFO("method " << int(method) << ": largest step increase " << worstIncrease << ", H(200 ms)/H(0) " << previous / H0);
+        INFO("method " << int(method) << ": largest step increase " << worstIncrease << ", H(200 ms)/H(0) "
+                       << previous / H0);
         CHECK(worstIncrease <= 1e-12);
         CHECK(previous < H0);
     }
@@ -225,8 +230,9 @@ TEST_CASE("the voice plays in tune at every host rate from 22.05 kHz to 192 kHz"
         const auto without = renderScene(free);
         const double f0 = peakFrequency(without.output, host, 150, 400);
         const double f1 = peakFrequency(withObstacle.output, host, 150, 400);
-        INFO("host " << host << " Hz: internal " << withObstacle.stats.internalRateHz << " Hz, " << withObstacle.stats.modes
-                     << " modes, free f0 " << f0 << " Hz, with the obstacle " << f1 << " Hz (ratio " << f1 / f0 << ")");
+        INFO("host " << host << " Hz: internal " << withObstacle.stats.internalRateHz << " Hz, "
+                     << withObstacle.stats.modes << " modes, free f0 " << f0 << " Hz, with the obstacle " << f1
+                     << " Hz (ratio " << f1 / f0 << ")");
         CHECK(withObstacle.stats.internalRateHz >= 384000.0);
         CHECK(f0 == Approx(196.0).epsilon(0.002));
         CHECK(f1 / f0 == Approx(4.0 / 3.0).epsilon(0.005));
@@ -253,7 +259,7 @@ TEST_CASE("a scene without obstacles gets no oversampling and only the audible m
     const auto ref = renderScene(reference);
     const auto a = lowpass(voice.output, 48000, 20000), b = lowpass(ref.output, 48000, 20000);
     INFO("relL2 over 0-100 ms " << relativeL2(a, b, 4800) << ", LSD " << logSpectralDistance(a, b, 48000)
-                                 << " dB, voice real-time factor " << 0.5 / voice.stats.cpuSeconds);
+                                << " dB, voice real-time factor " << 0.5 / voice.stats.cpuSeconds);
     // Measured 5.5e-3 and 0.003 dB: the reference's ultrasonic modes (above 20 kHz) are all it has more.
     CHECK(relativeL2(a, b, 4800) < 1e-2);
     CHECK(logSpectralDistance(a, b, 48000) < 0.1);

@@ -62,9 +62,9 @@ int main(int argc, char** argv)
         const auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
         const auto reference = renderScene(base);
         const auto ref = lowpass(reference.output, 48000, 20000);
-        std::fprintf(out, "%s,reference,%d,%.0f,%d,0,0,%.4g,%d\n", name, reference.stats.modes, reference.stats.internalRateHz,
-                     reference.stats.activeModes, base.simulation.durationSeconds / reference.stats.cpuSeconds,
-                     reference.stats.newtonIterationsMax);
+        std::fprintf(out, "%s,reference,%d,%.0f,%d,0,0,%.4g,%d\n", name, reference.stats.modes,
+                     reference.stats.internalRateHz, reference.stats.activeModes,
+                     base.simulation.durationSeconds / reference.stats.cpuSeconds, reference.stats.newtonIterationsMax);
         std::fflush(out);
         // The named quality settings as the voice resolves them for this string at 48 kHz.
         for (const auto& q : kQualitySettings)
@@ -76,9 +76,10 @@ int main(int argc, char** argv)
             scene.simulation.rateHz = double(vq.oversampling) * scene.simulation.outputRateHz;
             const auto r = renderScene(scene);
             const auto y = lowpass(r.output, 48000, 20000);
-            std::fprintf(out, "%s,quality:%s,%d,%.0f,%d,%.4g,%.4g,%.4g,%d\n", name, q.name, vq.modes, r.stats.internalRateHz,
-                         r.stats.activeModes, relativeL2(y, ref, 4800), logSpectralDistance(y, ref, 48000),
-                         scene.simulation.durationSeconds / r.stats.cpuSeconds, r.stats.newtonIterationsMax);
+            std::fprintf(out, "%s,quality:%s,%d,%.0f,%d,%.4g,%.4g,%.4g,%d\n", name, q.name, vq.modes,
+                         r.stats.internalRateHz, r.stats.activeModes, relativeL2(y, ref, 4800),
+                         logSpectralDistance(y, ref, 48000), scene.simulation.durationSeconds / r.stats.cpuSeconds,
+                         r.stats.newtonIterationsMax);
             std::fflush(out);
         }
         if (quick)
@@ -97,8 +98,8 @@ int main(int argc, char** argv)
                     const auto y = lowpass(r.output, 48000, 20000);
                     std::fprintf(out, "%s,%s,%d,%.0f,%d,%.4g,%.4g,%.4g,%d\n", name, variant.name, c.modes,
                                  r.stats.internalRateHz, r.stats.activeModes, relativeL2(y, ref, 4800),
-                                 logSpectralDistance(y, ref, 48000), scene.simulation.durationSeconds / r.stats.cpuSeconds,
-                                 r.stats.newtonIterationsMax);
+                                 logSpectralDistance(y, ref, 48000),
+                                 scene.simulation.durationSeconds / r.stats.cpuSeconds, r.stats.newtonIterationsMax);
                 }
                 catch (const std::exception&)
                 {

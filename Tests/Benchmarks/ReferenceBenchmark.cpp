@@ -23,10 +23,10 @@ using namespace jawari;
 namespace
 {
 // The same two-step kernel, compiled without vectorisation, to show what the vector units give.
-__attribute__((optimize("no-tree-vectorize"))) void pairStepScalar(const double* a, const double* e, double* X, double* Y,
-                                                                  double* settled, const double* h, const double* phi,
-                                                                  double c1, double c2, int M, double& y1, double& u1,
-                                                                  double& y2, double& u2)
+__attribute__((optimize("no-tree-vectorize"))) void pairStepScalar(const double* a, const double* e, double* X,
+                                                                   double* Y, double* settled, const double* h,
+                                                                   const double* phi, double c1, double c2, int M,
+                                                                   double& y1, double& u1, double& y2, double& u2)
 {
     y1 = u1 = y2 = u2 = 0.0;
     for (int p = 0; p < M; ++p)
@@ -63,14 +63,16 @@ void kernelCheck()
     double t0 = threadCpuSeconds();
     for (int n = 0; n < passes; ++n)
     {
-        kernels::pairStep(a.data(), e.data(), X.data(), Y.data(), S.data(), h.data(), phi.data(), 1e-12, 0.0, M, y1, u1, y2, u2);
+        kernels::pairStep(a.data(), e.data(), X.data(), Y.data(), S.data(), h.data(), phi.data(), 1e-12, 0.0, M, y1, u1,
+                          y2, u2);
         sink += y1 + u2;
     }
     const double vectorised = (threadCpuSeconds() - t0) / (2.0 * passes * M) * 1e9;
     t0 = threadCpuSeconds();
     for (int n = 0; n < passes; ++n)
     {
-        pairStepScalar(a.data(), e.data(), X.data(), Y.data(), S.data(), h.data(), phi.data(), 1e-12, 0.0, M, y1, u1, y2, u2);
+        pairStepScalar(a.data(), e.data(), X.data(), Y.data(), S.data(), h.data(), phi.data(), 1e-12, 0.0, M, y1, u1,
+                       y2, u2);
         sink += y1 + u2;
     }
     const double scalar = (threadCpuSeconds() - t0) / (2.0 * passes * M) * 1e9;
@@ -107,10 +109,11 @@ void worstBlock(const char* name, const Scene& scene)
         total += spent;
         iterations = std::max(iterations, voice.takeMaxIterations());
     }
-    std::printf("%-14s standard voice (%d modes, %.0f kHz), 256-sample blocks for 10 s: mean %.1f %%, worst %.1f %% of the "
-                "block's real-time budget (%.2f ms); most Newton iterations in a step %d\n",
-                name, q.modes, q.oversampling * 48.0, 100.0 * total / blocks / budget, 100.0 * worst / budget, budget * 1e3,
-                iterations);
+    std::printf(
+        "%-14s standard voice (%d modes, %.0f kHz), 256-sample blocks for 10 s: mean %.1f %%, worst %.1f %% of the "
+        "block's real-time budget (%.2f ms); most Newton iterations in a step %d\n",
+        name, q.modes, q.oversampling * 48.0, 100.0 * total / blocks / budget, 100.0 * worst / budget, budget * 1e3,
+        iterations);
 }
 }  // namespace
 
@@ -127,8 +130,9 @@ int main(int argc, char** argv)
         const auto steps = static_cast<long long>(seconds * scene.simulation.rateHz.value_or(kReferenceRateHz));
         RenderStats stats;
         renderInternal(scene, steps, {}, &stats);
-        std::printf("%-16s %-10s %6d %7d %9.3g %9.3f %10.2f %8.3f\n", name, stats.transformPath ? "DST-I" : "projection",
-                    stats.modes, stats.activeModes, stats.internalRateHz, stats.cpuSeconds, seconds / stats.cpuSeconds,
+        std::printf("%-16s %-10s %6d %7d %9.3g %9.3f %10.2f %8.3f\n", name,
+                    stats.transformPath ? "DST-I" : "projection", stats.modes, stats.activeModes, stats.internalRateHz,
+                    stats.cpuSeconds, seconds / stats.cpuSeconds,
                     double(stats.newtonIterationsTotal) / double(stats.steps));
     }
     std::printf("\n");

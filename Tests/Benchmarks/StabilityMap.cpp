@@ -80,8 +80,8 @@ int main(int argc, char** argv)
                             break;
                         }
                     }
-                    std::fprintf(out, "%s,%g,%g,%g,%s,%.4g,%.6g\n", m.name, alpha, std::pow(10.0, e), factor * 48000.0, outcome,
-                                 penetration, ratio);
+                    std::fprintf(out, "%s,%g,%g,%g,%s,%.4g,%.6g\n", m.name, alpha, std::pow(10.0, e), factor * 48000.0,
+                                 outcome, penetration, ratio);
                     std::fflush(out);
                 }
     if (out != stdout)

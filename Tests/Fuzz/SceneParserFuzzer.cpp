@@ -23,7 +23,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
             std::abort();
     }
     catch (const jawari::SceneError&)
-    {
-    }
+    {}
     return 0;
 }
