@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 namespace jawari
@@ -29,32 +28,12 @@ struct SolverSetup
 SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
 {
     SolverSetup s;
-    const auto& str = scene.string;
     const int M = scene.simulation.modes.value_or(kReferenceModes);
     s.rateHz = scene.simulation.rateHz.value_or(kReferenceRateHz);
-    const double L = str.lengthMetres;
-    auto& c = s.config;
-    c.lengthMetres = L;
-    c.linearDensity = str.linearDensity;
-    c.timeStep = 1.0 / s.rateHz;
-    c.modes = buildModalTable(str, M);
-    c.contacts = contactPointsOnGrid(scene.obstacles, L, M + 1);
-    c.path = path.value_or(ContactPath::automatic);
-    c.pickupWeights.resize(M);
-    for (int p = 1; p <= M; ++p)
-    {
-        if (scene.pickup.quantity == PickupQuantity::force)
-        {
-            // Force on the termination at x = 0: T u_x(0) - EI u_xxx(0) = sum_p q_p phi_p'(0) mu w_p^2 / k_p^2
-            // (mu w_p^2 = T k_p^2 + EI k_p^4 for the law; measured frequencies keep the modal stiffness).
-            const double k = p * std::numbers::pi / L;
-            c.pickupWeights[p - 1] =
-                std::sqrt(2.0 / L) * str.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
-        }
-        else
-            c.pickupWeights[p - 1] = modeShape(L, p, scene.pickup.position);
-    }
-    s.initial = pluckModalShape(L, M, scene.excitation.position, scene.excitation.amplitude);
+    s.config = stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position,
+                                  scene.pickup.quantity);
+    s.config.path = path.value_or(ContactPath::automatic);
+    s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
     return s;
 }
 

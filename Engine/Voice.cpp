@@ -8,17 +8,38 @@
 namespace jawari
 {
 
+ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles,
+                                     int modes, double rateHz, double pickupPosition, PickupQuantity quantity)
+{
+    const double L = string.lengthMetres;
+    const int M = modes;
+    ModalSolverConfig c;
+    c.lengthMetres = L;
+    c.linearDensity = string.linearDensity;
+    c.timeStep = 1.0 / rateHz;
+    c.modes = buildModalTable(string, M);
+    c.contacts = contactPointsOnGrid(obstacles, L, M + 1);
+    c.pickupWeights.resize(M);
+    for (int p = 1; p <= M; ++p)
+    {
+        if (quantity == PickupQuantity::force)
+        {
+            const double k = p * std::numbers::pi / L;
+            const double w = c.modes.omega[p - 1];
+            c.pickupWeights[p - 1] = std::sqrt(2.0 / L) * string.linearDensity * w * w / k;
+        }
+        else
+            c.pickupWeights[p - 1] = modeShape(L, p, pickupPosition);
+    }
+    return c;
+}
+
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
 {
     const auto& s = config.string;
-    const double L = s.lengthMetres;
     const int M = config.modes;
-    ModalSolverConfig c;
-    c.lengthMetres = L;
-    c.linearDensity = s.linearDensity;
-    c.timeStep = 1.0 / (config.oversampling * config.hostRateHz);
-    c.modes = buildModalTable(s, M);
-    c.contacts = contactPointsOnGrid(config.obstacles, L, M + 1);
+    ModalSolverConfig c = stringSolverConfig(s, config.obstacles, M, config.oversampling * config.hostRateHz,
+                                             config.pickupPosition, config.quantity);
     if (config.residualCompliance && !c.contacts.empty())
     {
         // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is
@@ -33,7 +54,7 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
             const double w = dropped.omega[p - 1];
             const double inverseStiffness = 1.0 / (s.linearDensity * w * w);
             for (int i = 0; i < P; ++i)
-                shape[i] = modeShape(L, p, c.contacts[i].position);
+                shape[i] = modeShape(s.lengthMetres, p, c.contacts[i].position);
             for (int i = 0; i < P; ++i)
                 for (int j = 0; j < P; ++j)
                     c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
@@ -43,18 +64,6 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     c.method = config.method;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
-    c.pickupWeights.resize(M);
-    for (int p = 1; p <= M; ++p)
-    {
-        if (config.quantity == PickupQuantity::force)
-        {
-            const double k = p * std::numbers::pi / L;
-            c.pickupWeights[p - 1] =
-                std::sqrt(2.0 / L) * s.linearDensity * c.modes.omega[p - 1] * c.modes.omega[p - 1] / k;
-        }
-        else
-            c.pickupWeights[p - 1] = modeShape(L, p, config.pickupPosition);
-    }
     return c;
 }
 

@@ -99,10 +99,16 @@ private:
     double maxPenetration_ = 0.0;
 };
 
-// The solver configuration of a voice: the modal table truncated to M, the pickup weights, the
-// excitation point, and the contact points (point obstacles at their positions, distributed ones
-// sampled on the grid x_i = i L/(M+1) of the truncated modes, which is the reference grid when
-// M = N - 1). OFF.
+// What the reference and the voice share: M modes of the string at rate R, the contact points
+// (point obstacles at their positions, distributed ones sampled on the grid x_i = i L/(M+1), the
+// reference grid when M = N - 1) and the pickup weights (phi_p at the pickup for displacement and
+// velocity; phi_p'(0) mu w_p^2 / k_p^2 for the force on the termination at x = 0, which is
+// T u_x(0) - EI u_xxx(0) for the law and keeps the modal stiffness for measured frequencies). OFF.
+ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles,
+                                     int modes, double rateHz, double pickupPosition, PickupQuantity quantity);
+
+// The voice's solver: stringSolverConfig plus the excitation point, the release damping, the
+// contact method and the residual compliance. OFF.
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config);
 
 }  // namespace jawari
