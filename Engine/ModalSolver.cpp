@@ -708,28 +708,6 @@ void ModalSolver::projectActive(const double* qActive, double* u) const
         u[j] = kernels::dot(phi_ + size_t(j) * stride_, qActive, Ma_);
 }
 
-void ModalSolver::contactDisplacement(const double* q, double* u) const
-{
-    if (transform_)
-    {
-        projectActive(q, u);  // all modes are active in the transform path
-        return;
-    }
-    for (int j = 0; j < P_; ++j)
-        u[j] = kernels::dot(shapes_.data() + size_t(j) * M_, q, M_);
-}
-
-double ModalSolver::modalEnergy(const double* next, const double* current) const
-{
-    double sum = 0.0;
-    for (int p = 0; p < M_; ++p)
-    {
-        const double v = (next[p] - current[p]) / dt_;
-        sum += coeffs_[p].kineticWeight * v * v + coeffs_[p].potentialWeight * next[p] * current[p];
-    }
-    return 0.5 * mu_ * sum;
-}
-
 double ModalSolver::stepLoss(const double* next, const double* previous) const
 {
     double sum = 0.0;
@@ -739,19 +717,6 @@ double ModalSolver::stepLoss(const double* next, const double* previous) const
         sum += coeffs_[p].lossWeight * v * v;
     }
     return mu_ * sum;
-}
-
-double ModalSolver::contactEnergy(const double* next, const double* current) const
-{
-    std::vector<double> u(P_), uPrev(P_);
-    contactDisplacement(next, u.data());
-    contactDisplacement(current, uPrev.data());
-    double sum = 0.0;
-    for (int j = 0; j < P_; ++j)
-        sum += contacts_[j].weight * 0.5
-               * (contactPotential(contacts_[j].law, contacts_[j].height - u[j])
-                  + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j]));
-    return sum;
 }
 
 ModalSolver::Energy ModalSolver::energy()
@@ -774,15 +739,7 @@ ModalSolver::Energy ModalSolver::energy()
         const Eigen::Map<const Eigen::VectorXd> d(delta_.data(), P_), dPrev(deltaPrev_.data(), P_);
         out.contact += 0.25 * (d.dot(complianceInverse_ * d) + dPrev.dot(complianceInverse_ * dPrev));
     }
-    double sum = 0.0;
-    const auto& coefficients = released_ ? activeCoeffsReleased_ : activeCoeffs_;
-    for (int i = 0; i < Ma_; ++i)
-    {
-        const auto& c = coefficients[i];
-        const double v = (current[i] - previous[i]) / dt_;
-        sum += c.kineticWeight * v * v + c.potentialWeight * current[i] * previous[i];
-    }
-    out.total = 0.5 * mu_ * sum + out.contact;
+    out.total = stringEnergy() + out.contact;
     return out;
 }
 

@@ -121,14 +121,9 @@ public:
         double contact = 0.0;  // sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2
     };
     Energy energy();
-    // The string part of H for a full pair (q^{n+1}, q^n), and the losses of the step
-    // (q^{n+1}, q^{n-1}): H^{n+1/2} - H^{n-1/2} = -sum mu (1-e_p) ((q^{n+1}-q^{n-1})/(2dt))^2.
-    double modalEnergy(const double* next, const double* current) const;
+    // The losses of a step for full states (q^{n+1}, q^{n-1}):
+    //   H^{n+1/2} - H^{n-1/2} = -sum mu (1-e_p) ((q^{n+1}-q^{n-1})/(2dt))^2.
     double stepLoss(const double* next, const double* previous) const;
-    // Contact part of H for a full pair (q^{n+1}, q^n).
-    double contactEnergy(const double* next, const double* current) const;
-    // Displacement at the contact points for a full modal state.
-    void contactDisplacement(const double* q, double* u) const;
 
     const std::vector<ExactModeCoefficients>& coefficients() const { return coeffs_; }
 

@@ -30,8 +30,8 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
     SolverSetup s;
     const int M = scene.simulation.modes.value_or(kReferenceModes);
     s.rateHz = scene.simulation.rateHz.value_or(kReferenceRateHz);
-    s.config = stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position,
-                                  scene.pickup.quantity);
+    s.config =
+        stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
     s.config.path = path.value_or(ContactPath::automatic);
     s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
     return s;

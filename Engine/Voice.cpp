@@ -8,8 +8,8 @@
 namespace jawari
 {
 
-ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles,
-                                     int modes, double rateHz, double pickupPosition, PickupQuantity quantity)
+ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles, int modes,
+                                     double rateHz, double pickupPosition, PickupQuantity quantity)
 {
     const double L = string.lengthMetres;
     const int M = modes;

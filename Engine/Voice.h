@@ -104,8 +104,8 @@ private:
 // reference grid when M = N - 1) and the pickup weights (phi_p at the pickup for displacement and
 // velocity; phi_p'(0) mu w_p^2 / k_p^2 for the force on the termination at x = 0, which is
 // T u_x(0) - EI u_xxx(0) for the law and keeps the modal stiffness for measured frequencies). OFF.
-ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles,
-                                     int modes, double rateHz, double pickupPosition, PickupQuantity quantity);
+ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles, int modes,
+                                     double rateHz, double pickupPosition, PickupQuantity quantity);
 
 // The voice's solver: stringSolverConfig plus the excitation point, the release damping, the
 // contact method and the residual compliance. OFF.
