@@ -37,6 +37,15 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     olderContact_.assign(points_.size(), 0);
 }
 
+void ContactSystem::setCoupling(const Eigen::MatrixXd& couplingA)
+{
+    if (diagonal_)
+        for (Eigen::Index j = 0; j < A_.rows(); ++j)
+            A_(j, j) = couplingA(j, j);
+    else
+        A_ = couplingA;  // same size: Eigen copies into the existing storage
+}
+
 void ContactSystem::reset()
 {
     std::fill(previousContact_.begin(), previousContact_.end(), 0);

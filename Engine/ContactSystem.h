@@ -28,6 +28,12 @@ public:
     // Forget the warm-start history (new initial state). RT.
     void reset();
 
+    // RT: a new law for point j (the obstacle's stiffness or exponent automated); no allocation.
+    void setLaw(int j, const ContactLaw& law) { points_[size_t(j)].law = law; }
+    // RT: a new coupling matrix of the same size (the residual compliance rescaled by a retune).
+    // The diagonal/coupled decision made by prepare() stands: a rescaled compliance keeps it.
+    void setCoupling(const Eigen::MatrixXd& couplingA);
+
     // RT. s_j = g_j - u_j^{n-1}, b_j = u~_j - u_j^{n-1}. Writes r and the slopes G_j(r_j)
     // (force per metre -G_j). Returns the iteration count (max over points when decoupled).
     int solve(const double* s, const double* b, double* r, double* slope);

@@ -94,6 +94,7 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     coeffsReleased_.resize(M_);
     omega_ = config.modes.omega;
     sigma_ = config.modes.sigma;
+    releaseSigma_ = config.releaseSigma;
     for (int p = 0; p < M_; ++p)
     {
         coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
@@ -101,6 +102,7 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     }
     pickupWeights_ = config.pickupWeights;
     pickupWeights_.resize(M_, 0.0);
+    basePickupWeights_ = pickupWeights_;
     for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_})
         v->assign(P_, 0.0);
 
@@ -132,7 +134,7 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     }
     // A mode is coupled when some contact point, or the excitation point, sees it above rounding
     // (|phi| <= sqrt(2/L)).
-    coupled_.assign(M_, useTransform ? 1 : 0);
+    coupled_.assign(M_, useTransform || config.keepEveryMode ? 1 : 0);
     const double couplingFloor = 1e-13 * std::sqrt(2.0 / L);
     for (int j = 0; j < P_; ++j)
         for (int p = 0; p < M_; ++p)
@@ -179,10 +181,13 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
             throw std::invalid_argument("contact compliance must be P x P");
         Eigen::MatrixXd C = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             config.contactCompliance.data(), P_, P_);
+        baseComplianceC_ = C;
         complianceW_ = C;
         for (int j = 0; j < P_; ++j)
             complianceW_.col(j) *= contacts_[j].weight;
         complianceInverse_ = C.inverse();
+        baseComplianceInverse_ = complianceInverse_;
+        couplingScratch_ = A + complianceW_;
         // The contact sees the true displacement change R = r + delta^{n+1} - delta^{n-1}
         //   = (b - delta^{n-1}) + (A + C W) f: the same equation with A + C W.
         A += complianceW_;
@@ -404,6 +409,82 @@ double ModalSolver::pickupCompliance() const
     for (int p = 0; p < M_; ++p)
         sum += pickupWeights_[p] * pickupWeights_[p] / (mu_ * omega_[p] * omega_[p]);
     return sum;
+}
+
+void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
+{
+    toSingle();  // the paired layout's corrections were made with the old coefficients
+    for (int p = 0; p < M_; ++p)
+    {
+        omega_[p] = omega[p];
+        sigma_[p] = sigma[p];
+        coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
+        coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + releaseSigma_, dt_);
+        pickupWeights_[p] = pickupScale * basePickupWeights_[p];
+    }
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const int p = active_[i];
+        activeCoeffs_[i] = coeffs_[p];
+        activeCoeffsReleased_[i] = coeffsReleased_[p];
+        aNormal_[i] = coeffs_[p].a;
+        eNormal_[i] = coeffs_[p].e;
+        aReleased_[i] = coeffsReleased_[p].a;
+        eReleased_[i] = coeffsReleased_[p].e;
+        h_[i] = pickupWeights_[p];
+    }
+    for (int set = 0; set < 2; ++set)
+    {
+        const double* a = set == 0 ? aNormal_ : aReleased_;
+        sumAPhiSquared_[set] = sumAPhiH_[set] = 0.0;
+        if (canPair_ && P_ == 1)
+            for (int i = 0; i < Ma_; ++i)
+            {
+                sumAPhiSquared_[set] += a[i] * phi_[i] * phi_[i];
+                sumAPhiH_[set] += a[i] * phi_[i] * h_[i];
+            }
+    }
+    for (int j = 0; j < P_ && !transform_; ++j)
+        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * kernels::dot(h_, phi_ + size_t(j) * stride_, Ma_);
+    if (!excitationShape_.empty())
+        pickupPhiE_ = forceScale_ * kernels::dot(h_, phiE_, Ma_);
+    pickup_ = kernels::dot(h_, q_, Ma_);
+    if (complianceW_.size() != 0)
+    {
+        for (int i = 0; i < P_; ++i)
+            for (int j = 0; j < P_; ++j)
+            {
+                complianceW_(i, j) = complianceScale * baseComplianceC_(i, j) * contacts_[j].weight;
+                complianceInverse_(i, j) = baseComplianceInverse_(i, j) / complianceScale;  // no Eigen inverse here
+            }
+        for (int i = 0; i < P_; ++i)
+            for (int j = 0; j < P_; ++j)
+            {
+                const double a = stringCoupling_(i, j) + complianceW_(i, j);
+                pointCoupling_(i, j) = a / contacts_[j].weight;
+                couplingScratch_(i, j) = a;
+            }
+        system_.setCoupling(couplingScratch_);
+    }
+}
+
+void ModalSolver::setContact(int j, const ContactLaw& law, double height)
+{
+    contacts_[size_t(j)].law = law;
+    contacts_[size_t(j)].height = height;
+    system_.setLaw(j, law);
+}
+
+void ModalSolver::displacementAt(const double* shapes, int count, double* out)
+{
+    toSingle();
+    for (int k = 0; k < count; ++k)
+    {
+        double u = 0.0;
+        for (int i = 0; i < Ma_; ++i)
+            u += q_[i] * shapes[size_t(k) * M_ + active_[i]];
+        out[k] = u;
+    }
 }
 
 void ModalSolver::resetToRest()

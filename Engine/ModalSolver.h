@@ -59,6 +59,9 @@ struct ModalSolverConfig
     // (delta^{n+1} - delta^{n-1})^T C^{-1} (delta^{n+1} - delta^{n-1}) / 4 a step).
     std::vector<double> contactCompliance;
     ContactMethod method = ContactMethod::energyConserving;
+    // Step every mode, even those nothing couples to and that start at rest: the plugin's voices
+    // take state across rebuilds (a new pluck or pickup point) and must not drop a ringing mode.
+    bool keepEveryMode = false;
 };
 
 class ModalSolver
@@ -89,6 +92,20 @@ public:
     double stringEnergy() const;
     // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H.
     double pickupCompliance() const;
+
+    // RT: new frequencies and damping for every mode (omega, sigma: M values each, rad/s and 1/s),
+    // the residual compliance scaled by `complianceScale` from the configured one (1/r^2 when every
+    // frequency is scaled by r) and the pickup weights by `pickupScale`. The state (q^n, q^{n-1})
+    // carries over. No allocation.
+    void retune(const double* omega, const double* sigma, double complianceScale, double pickupScale = 1.0);
+    // RT: the law and height of contact point j (the obstacle's automation). No allocation.
+    void setContact(int j, const ContactLaw& law, double height);
+    const ContactPoint& contact(int j) const { return contacts_[size_t(j)]; }
+    const std::vector<double>& omega() const { return omega_; }
+    const std::vector<double>& sigma() const { return sigma_; }
+    // RT: u(x_k) = sum_p q_p^n shapes[k M + p] for `count` points, with shapes[k M + p] = phi_p(x_k)
+    // tabulated by the caller (the editor's drawing of the string). No allocation.
+    void displacementAt(const double* shapes, int count, double* out);
 
     // RT: the string at rest at zero (after a blow-up), without touching the tables.
     void resetToRest();
@@ -156,6 +173,10 @@ private:
     double mu_ = 0.0;
     double forceScale_ = 0.0;                    // dt^2 / mu
     std::vector<ExactModeCoefficients> coeffs_;  // all M modes
+    double releaseSigma_ = 0.0;
+    std::vector<double> basePickupWeights_;
+    Eigen::MatrixXd baseComplianceC_;  // the configured C (retune scales it)
+    Eigen::MatrixXd baseComplianceInverse_, couplingScratch_;
     std::vector<double> omega_, sigma_, pickupWeights_;
     std::vector<double> shapes_;  // P x M, phi_p(x_j) for every mode (projection path)
     std::vector<char> coupled_;   // mode p touches some contact point

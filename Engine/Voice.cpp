@@ -64,17 +64,27 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     c.method = config.method;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
+    c.keepEveryMode = config.keepEveryMode;
     return c;
 }
 
 Voice::Voice(const VoiceConfig& config)
-    : solver_(voiceSolverConfig(config))
+    : Voice(config, voiceSolverConfig(config))
+{}
+
+Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
+    : solver_(solverConfig)
     , decimator_(config.oversampling, config.hostRateHz)
     , oversampling_(config.oversampling)
     , hostRate_(config.hostRateHz)
     , quantity_(config.quantity)
     , dt_(1.0 / (config.oversampling * config.hostRateHz))
 {
+    baseOmega_ = solverConfig.modes.omega;
+    baseFrequencyHz_ = solverConfig.modes.frequencyHz;
+    omegaScratch_.assign(baseOmega_.size(), 0.0);
+    for (int j = 0; j < solver_.contactCount(); ++j)
+        baseHeights_.push_back(solver_.contact(j).height);
     block_.assign(oversampling_, 0.0);
     lengthMetres_ = config.string.lengthMetres;
     pickupCompliance_ = solver_.pickupCompliance();
@@ -170,14 +180,7 @@ void Voice::process(double* out, int numSamples)
             // A method that lost stability (the penalty force, for one): no NaN and no blast
             // reaches the speakers; the string restarts from rest.
             ++blowUps_;
-            solver_.resetToRest();
-            decimator_.reset();
-            std::fill(block_.begin(), block_.end(), 0.0);
-            y_ = yPrevious_ = 0.0;
-            first_ = true;
-            pulseStep_ = -1;
-            energyCeiling_ = 0.0;
-            runawayLimit_ = 0.0;
+            silence();
             out[m] = 0.0;
         }
     }
@@ -193,6 +196,45 @@ void Voice::takeStateFrom(Voice& other)
     pulseStep_ = other.pulseStep_;
     pulsePeak_ = other.pulsePeak_;
     decimator_ = other.decimator_;  // same factor and length: a copy of equal-sized vectors, no allocation
+    energyCeiling_ = other.energyCeiling_;
+    if (pulseStep_ >= 0)
+        runawayLimit_ = std::numeric_limits<double>::infinity();
+    else if (energyCeiling_ > 0.0)
+        raiseCeiling();
+}
+
+void Voice::retune(double ratio, const double* sigma)
+{
+    const double previous = ratio_;
+    ratio_ = ratio;
+    for (size_t p = 0; p < baseOmega_.size(); ++p)
+        omegaScratch_[p] = ratio * baseOmega_[p];
+    const double pickupScale = quantity_ == PickupQuantity::force ? ratio * ratio : 1.0;
+    solver_.retune(omegaScratch_.data(), sigma, 1.0 / (ratio * ratio), pickupScale);
+    pickupCompliance_ = solver_.pickupCompliance();
+    // The same motion at a higher pitch holds more energy (the tension works): the ceiling follows.
+    energyCeiling_ *= std::max(1.0, (ratio * ratio) / (previous * previous));
+    if (pulseStep_ < 0 && energyCeiling_ > 0.0)
+        raiseCeiling();
+}
+
+void Voice::setContactLaw(const ContactLaw& law, double heightOffset)
+{
+    for (int j = 0; j < solver_.contactCount(); ++j)
+        solver_.setContact(j, law, baseHeights_[size_t(j)] + heightOffset);
+}
+
+void Voice::silence()
+{
+    solver_.resetToRest();
+    solver_.setReleased(false);
+    decimator_.reset();
+    std::fill(block_.begin(), block_.end(), 0.0);
+    y_ = yPrevious_ = 0.0;
+    first_ = true;
+    pulseStep_ = -1;
+    energyCeiling_ = 0.0;
+    runawayLimit_ = 0.0;
 }
 
 int Voice::takeMaxIterations()

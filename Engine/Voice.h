@@ -34,12 +34,17 @@ struct VoiceConfig
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
     ContactMethod method = ContactMethod::energyConserving;
+    // Step every mode (see ModalSolverConfig::keepEveryMode): the plugin's voices.
+    bool keepEveryMode = false;
 };
 
 class Voice
 {
 public:
     explicit Voice(const VoiceConfig& config);  // OFF
+    // OFF: with the solver configuration already built (voiceSolverConfig(config)): several voices
+    // of one string share the work of building it.
+    Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig);
 
     int modes() const { return solver_.modeCount(); }
     int activeModes() const { return solver_.activeModeCount(); }
@@ -57,6 +62,20 @@ public:
     void unrelease();                           // RT: back to the string's own damping (a new note)
     void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
     void takeStateFrom(Voice& other);           // RT: same string and modes, new obstacles/contact
+
+    // RT: every mode's frequency scaled by `ratio` from the configured string (the note's pitch:
+    // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
+    // sigma (1/s, M values) given for the new frequencies. The residual compliance follows (1/r^2).
+    void retune(double ratio, const double* sigma);
+    double tuningRatio() const { return ratio_; }
+    // The configured modes' frequencies (Hz), before any retune.
+    const std::vector<double>& baseFrequencies() const { return baseFrequencyHz_; }
+    // RT: the obstacles' law and a height offset (m) from their configured heights, every contact point.
+    void setContactLaw(const ContactLaw& law, double heightOffset);
+    // RT: the string's energy (J) without the contact part.
+    double stringEnergy() const { return solver_.stringEnergy(); }
+    // RT: the string at rest, output and pulse cleared (a stolen voice before its new note).
+    void silence();
 
     // RT: how many times the voice found its output non-finite or running away and put the string
     // back at rest, muting instead of sending it on. Running away: beyond 4 sqrt(2 H G), with G the
@@ -97,6 +116,8 @@ private:
     int maxIterations_ = 0;
     long iterationCount_ = 0;
     double maxPenetration_ = 0.0;
+    double ratio_ = 1.0;
+    std::vector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
 };
 
 // What the reference and the voice share: M modes of the string at rate R, the contact points

@@ -201,3 +201,67 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
     CHECK(taken > 5);
     CHECK(freed == taken);  // every voice the audio thread replaced came back and was freed here
 }
+
+#include "Instrument.h"
+
+TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
+{
+    // Every obstacle shape (one point, a parabolic bridge, five frets) and every method.
+    for (const auto shape : {ObstacleShape::point, ObstacleShape::parabola, ObstacleShape::frets})
+        for (const auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty})
+        {
+            InstrumentStructure s;
+            s.quality = 0;
+            s.shape = shape;
+            s.method = method;
+            s.obstaclePosition = shape == ObstacleShape::parabola ? 0.01 : 0.3;
+            s.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+            auto first = buildVoicePack(s);
+            s.obstaclePosition += 0.01;
+            auto second = buildVoicePack(s);  // built off the audio thread, as the plugin's builder does
+            Instrument instrument;
+            InstrumentControls c;
+            instrument.setControls(c);
+            instrument.install(first.get(), nullptr);
+            std::vector<float> left(512), right(512);
+            InstrumentSnapshot snapshot;
+            long counted = 0;
+            {
+                CountAllocations guard;
+                for (int b = 0; b < 120; ++b)
+                {
+                    if (b < 10)
+                        instrument.noteOn(50 + 2 * b, 0.9);  // the ninth and tenth steal
+                    if (b == 20)
+                    {
+                        instrument.pitchBend(0.7);
+                        c.obstacleHeight = 2e-4;
+                        c.stiffness = 1e10;
+                        c.exponent = 2.0;
+                        c.dampingCurve[3] = 4.0;
+                        c.decayScale = 2.0;
+                        c.drone = true;
+                        c.droneTempo = 300.0;
+                        instrument.setControls(c);
+                        instrument.sustain(true);
+                    }
+                    if (b == 40)
+                        instrument.install(second.get(), first.get());
+                    if (b == 60)
+                    {
+                        for (int n = 0; n < 10; ++n)
+                            instrument.noteOff(50 + 2 * n);
+                        instrument.sustain(false);
+                    }
+                    instrument.render(left.data(), right.data(), b % 2 == 0 ? 512 : 37);
+                }
+                counted = allocations;
+            }
+            INFO("shape " << int(shape) << " method " << int(method));
+            CHECK(counted == 0);
+            CHECK(instrument.snapshots().read(snapshot));
+            CHECK(snapshot.sequence > 0);
+            for (float v : left)
+                REQUIRE(std::isfinite(v));
+        }
+}

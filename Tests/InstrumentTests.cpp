@@ -1,0 +1,224 @@
+// The playable instrument (Engine/Instrument.h): retuning, pitch, polyphony and stealing, sustain,
+// the tanpura drone, structure swaps while sounding.
+
+#include "Analysis.h"
+#include "Instrument.h"
+#include "TestSupport.h"
+#include "Voice.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+using namespace jawari;
+
+namespace
+{
+// Renders `seconds` of the instrument and returns the left channel.
+std::vector<double> play(Instrument& instrument, double seconds, double rate = 48000.0, int block = 256)
+{
+    std::vector<double> out;
+    std::vector<float> l(static_cast<size_t>(block)), r(static_cast<size_t>(block));
+    const long total = std::lround(seconds * rate);
+    for (long n = 0; n < total; n += block)
+    {
+        const int count = int(std::min<long>(block, total - n));
+        instrument.render(l.data(), r.data(), count);
+        out.insert(out.end(), l.begin(), l.begin() + count);
+    }
+    return out;
+}
+
+double largestStep(const std::vector<double>& y, size_t begin, size_t end)
+{
+    double m = 0.0;
+    for (size_t n = std::max<size_t>(begin, 1); n < end && n < y.size(); ++n)
+        m = std::max(m, std::abs(y[n] - y[n - 1]));
+    return m;
+}
+
+InstrumentStructure freeStructure()
+{
+    InstrumentStructure s;
+    s.quality = 0;  // draft: quick
+    return s;
+}
+
+// The obstacle out of reach (1 cm below the string): a free string.
+InstrumentControls freeControls()
+{
+    InstrumentControls c;
+    c.obstacleHeight = -0.01;
+    return c;
+}
+}  // namespace
+
+TEST_CASE("A retuned voice equals a voice built for the scaled string", "[instrument]")
+{
+    // Every frequency scaled by r is the string with T and EI scaled by r^2 (B the same): the
+    // residual compliance scales by 1/r^2 exactly, so the two voices must agree to rounding.
+    const double r = std::pow(2.0, 7.0 / 12.0);
+    VoiceConfig a;
+    a.string = test::paperString();
+    a.obstacles = {test::pointObstacle(0.501)};
+    a.modes = 120;
+    a.oversampling = 4;
+    VoiceConfig b = a;
+    b.string.tensionNewtons *= r * r;
+    Voice built(b);
+    Voice retuned(a);
+    retuned.retune(r, built.solver().sigma().data());
+    for (Voice* v : {&built, &retuned})
+        v->setInitialShape(0.3, 1.5e-3);
+    std::vector<double> ya(4800), yb(4800);
+    retuned.process(ya.data(), 4800);
+    built.process(yb.data(), 4800);
+    double peak = 0.0, worst = 0.0;
+    for (size_t n = 0; n < ya.size(); ++n)
+    {
+        peak = std::max(peak, std::abs(yb[n]));
+        worst = std::max(worst, std::abs(ya[n] - yb[n]));
+    }
+    INFO("difference " << worst / peak << " of the peak");
+    CHECK(worst / peak < 1e-9);
+}
+
+TEST_CASE("Notes play in tune and pitch bend moves them", "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    instrument.setControls(freeControls());
+    instrument.install(pack.get(), nullptr);
+    for (const auto& [note, hz] : {std::pair{69, 440.0}, std::pair{57, 220.0}, std::pair{62, 293.665}})
+    {
+        instrument.allNotesOff();
+        play(instrument, 2.0);  // ring down
+        instrument.noteOn(note, 0.8);
+        const auto y = play(instrument, 1.0);
+        const double f = peakFrequency(y, 48000.0, 0.8 * hz, 1.2 * hz, 4800);
+        INFO("note " << note << ": " << f << " Hz, expected " << hz);
+        CHECK(std::abs(f / hz - 1.0) < 1e-3);
+    }
+    // Bend up by the whole range (2 semitones): 62 -> 64.
+    instrument.pitchBend(1.0);
+    const auto y = play(instrument, 1.0);
+    const double f = peakFrequency(y, 48000.0, 280.0, 360.0, 9600);
+    INFO("bent " << f << " Hz, expected 329.63");
+    CHECK(std::abs(f / 329.628 - 1.0) < 1e-3);
+}
+
+TEST_CASE("Eight strings sound at once and a ninth note steals without a click", "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    instrument.setControls(freeControls());
+    instrument.install(pack.get(), nullptr);
+    for (int i = 0; i < 8; ++i)
+        instrument.noteOn(48 + 3 * i, 0.9);
+    const auto before = play(instrument, 0.5);
+    CHECK(instrument.activeStrings() == 8);
+    // Each pluck's pulse is the fastest thing in the sound; the steal must not be faster.
+    const double normal = largestStep(before, 2400, before.size());
+    instrument.noteOn(80, 0.9);
+    const auto during = play(instrument, 0.1);
+    const double steal = largestStep(during, 0, during.size());
+    INFO("largest sample step: playing " << normal << ", around the steal " << steal);
+    CHECK(steal < 1.5 * normal);
+    CHECK(instrument.activeStrings() == 8);
+    bool stolen = false;
+    for (int s = 0; s < kMidiVoices; ++s)
+        stolen = stolen || instrument.slotNote(s) == 80;
+    CHECK(stolen);
+}
+
+TEST_CASE("The sustain pedal holds released notes until it is lifted", "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument pedal, plain;
+    for (Instrument* i : {&pedal, &plain})
+    {
+        i->setControls(freeControls());
+        i->install(pack.get(), nullptr);
+    }
+    auto pack2 = buildVoicePack(freeStructure());
+    plain.install(pack2.get(), nullptr);
+    pedal.sustain(true);
+    for (Instrument* i : {&pedal, &plain})
+    {
+        i->noteOn(60, 0.8);
+        play(*i, 0.2);
+        i->noteOff(60);
+    }
+    const auto held = play(pedal, 0.6);
+    const auto released = play(plain, 0.6);
+    auto rms = [](const std::vector<double>& y) {
+        double s = 0.0;
+        for (size_t n = y.size() - 4800; n < y.size(); ++n)
+            s += y[n] * y[n];
+        return std::sqrt(s / 4800);
+    };
+    INFO("last 0.1 s rms: sustained " << rms(held) << ", released " << rms(released));
+    CHECK(rms(released) < 0.05 * rms(held));
+    pedal.sustain(false);
+    play(pedal, 2.0);
+    CHECK(pedal.activeStrings() == 0);
+}
+
+TEST_CASE("The tanpura drone plucks Pa Sa Sa Sa in cycle on its own bridges", "[instrument]")
+{
+    InstrumentStructure s;
+    s.quality = 0;
+    s.obstaclePosition = 0.006;  // the tanpura's bridge near the end
+    auto pack = buildVoicePack(s);
+    Instrument instrument;
+    InstrumentControls c;
+    c.drone = true;
+    c.droneTempo = 120.0;  // a pluck every 0.5 s, 1 s after the low Sa: a 2.5 s cycle
+    c.humanise = 0.0;
+    c.droneTonic = 49;
+    instrument.setControls(c);
+    instrument.install(pack.get(), nullptr);
+    const auto y = play(instrument, 5.0);
+    INFO("plucks in 5 s: " << instrument.dronePlucks());
+    CHECK(instrument.dronePlucks() == 8);                  // t = 0, .5, 1, 1.5 | 2.5, 3, 3.5, 4
+    const int expected[kDroneStrings] = {44, 49, 49, 37};  // Pa below Sa, Sa, Sa, low Sa
+    for (int i = 0; i < kDroneStrings; ++i)
+    {
+        CHECK(instrument.slotNote(kMidiVoices + i) == expected[i]);
+        const double f = pack->baseFundamentalHz * instrument.slotRatio(kMidiVoices + i);
+        CHECK(std::abs(f / (440.0 * std::pow(2.0, (expected[i] - 69) / 12.0)) - 1.0) < 1e-12);
+    }
+    double peak = 0.0;
+    for (double v : y)
+        peak = std::max(peak, std::abs(v));
+    CHECK(peak > 0.01);
+    CHECK(peak < 1.0);
+    CHECK(instrument.blowUps() == 0);
+}
+
+TEST_CASE("A new obstacle position takes over the sounding string without a jump", "[instrument]")
+{
+    InstrumentStructure s = freeStructure();
+    s.obstaclePosition = 0.3;
+    auto first = buildVoicePack(s);
+    s.obstaclePosition = 0.32;
+    auto second = buildVoicePack(s);
+    Instrument instrument;
+    InstrumentControls c;
+    c.obstacleHeight = 0.0;
+    instrument.setControls(c);
+    instrument.install(first.get(), nullptr);
+    instrument.noteOn(55, 0.9);
+    const auto before = play(instrument, 0.5);
+    const double normal = largestStep(before, 2400, before.size());
+    instrument.install(second.get(), first.get());
+    const auto after = play(instrument, 0.2);
+    std::vector<double> joined(before.end() - 100, before.end());
+    joined.insert(joined.end(), after.begin(), after.end());
+    const double swap = largestStep(joined, 0, joined.size());
+    INFO("largest sample step: before " << normal << ", across the swap " << swap);
+    CHECK(swap < 1.5 * normal);
+    CHECK(instrument.activeStrings() == 1);
+}
