@@ -74,6 +74,9 @@ public:
     }
 
     T* current() const { return current_; }  // RT
+    // CT: no offer waits for the audio thread; nothing retired waits to be collected.
+    bool pendingEmpty() const { return pending_.load(std::memory_order_acquire) == nullptr; }
+    bool retiredEmpty() const { return retired_.load(std::memory_order_acquire) == nullptr; }
 
 private:
     std::atomic<T*> pending_{nullptr};

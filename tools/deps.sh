@@ -12,6 +12,8 @@ packages=(
     libliquid-dev              # FIR design (Kaiser window) for the voice's decimator
     nlohmann-json3-dev         # scene files (the engine has no JUCE)
     catch2                     # tests (Catch2 v2)
+    libx11-dev libxrandr-dev libxinerama-dev libxcursor-dev libxext-dev  # the plugin editor (X11)
+    libfreetype-dev libfontconfig-dev libasound2-dev libgl-dev         # fonts, ALSA (standalone)
 )
 
 missing=()

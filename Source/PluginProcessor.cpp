@@ -1,0 +1,354 @@
+#include "PluginProcessor.h"
+
+#include "PluginEditor.h"
+#include "Presets.h"
+
+#include <cmath>
+
+namespace jawari::plugin
+{
+
+// Watches the structural parameters and builds new packs for them off the audio thread; frees the
+// packs the audio thread retires.
+class JawariAudioProcessor::Builder : public juce::Thread
+{
+public:
+    explicit Builder(JawariAudioProcessor& owner)
+        : juce::Thread("Jawari builder")
+        , owner_(owner)
+    {
+    }
+
+    void setBuilt(const InstrumentStructure& s)
+    {
+        const juce::SpinLock::ScopedLockType lock(guard_);  // builder and message threads only
+        built_ = s;
+    }
+
+    bool hasBuilt(const InstrumentStructure& s)
+    {
+        const juce::SpinLock::ScopedLockType lock(guard_);
+        return built_ == s;
+    }
+
+    void run() override
+    {
+        while (!threadShouldExit())
+        {
+            owner_.exchange_.collect();
+            const double rate = owner_.hostRate_.load();
+            if (rate > 0.0)
+            {
+                const auto wanted = owner_.reader_.structure(rate);
+                if (!hasBuilt(wanted))
+                {
+                    auto pack = buildVoicePack(wanted);
+                    owner_.latency_.store(pack->latencySamples);
+                    owner_.exchange_.offer(std::move(pack));
+                    setBuilt(wanted);
+                    owner_.triggerAsyncUpdate();
+                    continue;
+                }
+            }
+            wait(10);
+        }
+    }
+
+private:
+    JawariAudioProcessor& owner_;
+    juce::SpinLock guard_;
+    InstrumentStructure built_{};
+};
+
+JawariAudioProcessor::JawariAudioProcessor()
+    : AudioProcessor(BusesProperties().withOutput("Output", juce::AudioChannelSet::stereo(), true))
+    , parameters_(*this, nullptr, "Parameters", createParameterLayout())
+    , reader_(parameters_)
+{
+    for (auto& c : curve_)
+        c.store(1.0f);
+    builder_ = std::make_unique<Builder>(*this);
+}
+
+JawariAudioProcessor::~JawariAudioProcessor()
+{
+    cancelPendingUpdate();
+    builder_->stopThread(5000);
+}
+
+void JawariAudioProcessor::installNow(std::unique_ptr<VoicePack> pack)
+{
+    // Only while audio is stopped (prepareToPlay): this thread stands in for the audio thread.
+    exchange_.collect();
+    latency_.store(pack->latencySamples);
+    exchange_.offer(std::move(pack));
+    VoicePack* previous = nullptr;
+    if (VoicePack* fresh = exchange_.take(&previous))
+    {
+        instrument_.install(fresh, previous);
+        exchange_.retire();
+        ++packsInstalled_;
+    }
+    exchange_.collect();
+}
+
+void JawariAudioProcessor::prepareToPlay(double sampleRate, int)
+{
+    builder_->stopThread(10000);
+    hostRate_.store(sampleRate);
+    const auto s = reader_.structure(sampleRate);
+    installNow(buildVoicePack(s));
+    builder_->setBuilt(s);
+    setLatencySamples(latency_.load());
+    load_.reset(sampleRate, 512);
+    builder_->startThread();
+}
+
+void JawariAudioProcessor::releaseResources()
+{
+    builder_->stopThread(10000);
+}
+
+bool JawariAudioProcessor::isBusesLayoutSupported(const BusesLayout& layouts) const
+{
+    const auto out = layouts.getMainOutputChannelSet();
+    return layouts.inputBuses.isEmpty() && (out == juce::AudioChannelSet::mono() || out == juce::AudioChannelSet::stereo());
+}
+
+void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
+{
+    juce::ScopedNoDenormals noDenormals;
+    const int numSamples = buffer.getNumSamples();
+    juce::AudioProcessLoadMeasurer::ScopedTimer timer(load_, numSamples);
+    VoicePack* previous = nullptr;
+    if (VoicePack* fresh = exchange_.take(&previous))
+    {
+        instrument_.install(fresh, previous);
+        exchange_.retire();
+        packsInstalled_.fetch_add(1, std::memory_order_relaxed);
+    }
+    instrument_.setControls(reader_.controls(curve_));
+
+    float* left = buffer.getWritePointer(0);
+    float* right = buffer.getNumChannels() > 1 ? buffer.getWritePointer(1) : nullptr;
+    std::array<float, Instrument::kChunk> spare{};
+    int position = 0;
+    auto renderTo = [&](int end)
+    {
+        while (position < end)
+        {
+            const int count = right != nullptr ? end - position : std::min(end - position, Instrument::kChunk);
+            if (right != nullptr)
+                instrument_.render(left + position, right + position, count);
+            else
+            {
+                instrument_.render(left + position, spare.data(), count);
+                for (int n = 0; n < count; ++n)
+                    left[position + n] = 0.5f * (left[position + n] + spare[size_t(n)]);
+            }
+            position += count;
+        }
+    };
+    for (const auto metadata : midi)
+    {
+        renderTo(std::clamp(metadata.samplePosition, 0, numSamples));
+        const auto m = metadata.getMessage();
+        if (m.isNoteOn())
+            instrument_.noteOn(m.getNoteNumber(), m.getFloatVelocity());
+        else if (m.isNoteOff())
+            instrument_.noteOff(m.getNoteNumber());
+        else if (m.isPitchWheel())
+            instrument_.pitchBend((m.getPitchWheelValue() - 8192) / 8192.0);
+        else if (m.isSustainPedalOn())
+            instrument_.sustain(true);
+        else if (m.isSustainPedalOff())
+            instrument_.sustain(false);
+        else if (m.isAllNotesOff() || m.isAllSoundOff())
+            instrument_.allNotesOff();
+    }
+    renderTo(numSamples);
+    for (int c = 2; c < buffer.getNumChannels(); ++c)
+        buffer.clear(c, 0, numSamples);
+
+    int w = recentWrite_.load(std::memory_order_relaxed);
+    for (int n = 0; n < numSamples; ++n)
+    {
+        recent_[size_t(w)] = left[n];
+        w = (w + 1) % kRecent;
+    }
+    recentWrite_.store(w, std::memory_order_release);
+}
+
+int JawariAudioProcessor::readRecentOutput(float* dest, int count)
+{
+    count = std::min(count, kRecent);
+    const int w = recentWrite_.load(std::memory_order_acquire);
+    for (int n = 0; n < count; ++n)
+        dest[n] = recent_[size_t((w - count + n + kRecent) % kRecent)];
+    return count;
+}
+
+bool JawariAudioProcessor::waitForBuilds(int timeoutMs)
+{
+    const auto deadline = juce::Time::getMillisecondCounter() + juce::uint32(timeoutMs);
+    while (juce::Time::getMillisecondCounter() < deadline)
+    {
+        const double rate = hostRate_.load();
+        // Built, and nothing retired in the way: the next processBlock takes the pack.
+        if (rate > 0.0 && builder_->hasBuilt(reader_.structure(rate)) && exchange_.retiredEmpty())
+            return true;
+        juce::Thread::sleep(2);
+    }
+    return false;
+}
+
+void JawariAudioProcessor::handleAsyncUpdate()
+{
+    setLatencySamples(latency_.load());
+}
+
+juce::AudioProcessorEditor* JawariAudioProcessor::createEditor()
+{
+    return new JawariEditor(*this);
+}
+
+int JawariAudioProcessor::getNumPrograms()
+{
+    return static_cast<int>(factoryPresets().size());
+}
+
+void JawariAudioProcessor::setCurrentProgram(int index)
+{
+    const auto& presets = factoryPresets();
+    if (index < 0 || index >= static_cast<int>(presets.size()))
+        return;
+    currentProgram_ = index;
+    applyFactoryPreset(parameters_, presets[size_t(index)]);
+    for (int i = 0; i < kDampingCurvePoints; ++i)
+        setDampingCurvePoint(i, 1.0f);
+}
+
+const juce::String JawariAudioProcessor::getProgramName(int index)
+{
+    const auto& presets = factoryPresets();
+    return index >= 0 && index < static_cast<int>(presets.size()) ? presets[size_t(index)].name : "";
+}
+
+void JawariAudioProcessor::setDampingCurvePoint(int i, float multiplier)
+{
+    if (i < 0 || i >= kDampingCurvePoints)
+        return;
+    curve_[size_t(i)].store(std::isfinite(multiplier) ? std::clamp(multiplier, 0.125f, 8.0f) : 1.0f);
+}
+
+juce::ValueTree JawariAudioProcessor::state() const
+{
+    juce::ValueTree tree("JawariState");
+    tree.setProperty("version", kStateVersion, nullptr);
+    tree.setProperty("program", currentProgram_, nullptr);
+    juce::ValueTree params("Parameters");
+    for (auto* p : getParameters())
+        if (auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p))
+        {
+            juce::ValueTree param("Param");
+            param.setProperty("id", ranged->getParameterID(), nullptr);
+            param.setProperty("value", ranged->convertFrom0to1(ranged->getValue()), nullptr);
+            params.appendChild(param, nullptr);
+        }
+    tree.appendChild(params, nullptr);
+    juce::ValueTree curve("DampingCurve");
+    for (int i = 0; i < kDampingCurvePoints; ++i)
+        curve.setProperty("p" + juce::String(i), curve_[size_t(i)].load(), nullptr);
+    tree.appendChild(curve, nullptr);
+    return tree;
+}
+
+void JawariAudioProcessor::setState(const juce::ValueTree& tree)
+{
+    // Version 1 (0.1) had no damping curve; version 2 adds it. Anything else a state lacks, or
+    // holds out of range or not as a number, takes the parameter's default.
+    const auto params = tree.getChildWithName("Parameters");
+    for (auto* p : getParameters())
+    {
+        auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p);
+        if (ranged == nullptr)
+            continue;
+        float normalised = ranged->getDefaultValue();
+        const auto param = params.getChildWithProperty("id", ranged->getParameterID());
+        if (param.isValid())
+        {
+            const juce::var v = param.getProperty("value");
+            const juce::String text = v.toString().trim();
+            const bool numeric = (v.isDouble() || v.isInt() || v.isInt64())
+                                 || (text.isNotEmpty() && text.containsOnly("0123456789+-.eE"));
+            const double value = numeric ? static_cast<double>(v) : std::nan("");
+            const auto& range = ranged->getNormalisableRange();
+            if (std::isfinite(value) && value >= range.start && value <= range.end)
+                normalised = ranged->convertTo0to1(static_cast<float>(value));
+        }
+        ranged->setValueNotifyingHost(normalised);
+    }
+    const auto curve = tree.getChildWithName("DampingCurve");
+    for (int i = 0; i < kDampingCurvePoints; ++i)
+    {
+        const juce::var v = curve.getProperty("p" + juce::String(i), 1.0);
+        const double value = v.isDouble() || v.isInt() || v.isInt64() ? static_cast<double>(v)
+                             : v.toString().containsOnly("0123456789+-.eE") && v.toString().isNotEmpty()
+                                 ? v.toString().getDoubleValue()
+                                 : 1.0;
+        setDampingCurvePoint(i, std::isfinite(value) && value > 0.0 ? static_cast<float>(value) : 1.0f);
+    }
+    const int program = static_cast<int>(tree.getProperty("program", 1));
+    currentProgram_ = program >= 0 && program < getNumPrograms() ? program : 1;
+}
+
+void JawariAudioProcessor::getStateInformation(juce::MemoryBlock& destData)
+{
+    if (const auto xml = state().createXml())
+        copyXmlToBinary(*xml, destData);
+}
+
+void JawariAudioProcessor::setStateInformation(const void* data, int sizeInBytes)
+{
+    // Anything that is not a Jawari state (empty, truncated, random) is ignored: the current
+    // settings stay, nothing crashes. A Jawari state of any version is read field by field.
+    if (data == nullptr || sizeInBytes <= 0)
+        return;
+    const auto xml = getXmlFromBinary(data, sizeInBytes);
+    if (xml == nullptr || !xml->hasTagName("JawariState"))
+        return;
+    setState(juce::ValueTree::fromXml(*xml));
+}
+
+juce::Result JawariAudioProcessor::saveUserPreset(const juce::String& name)
+{
+    const auto clean = juce::File::createLegalFileName(name.trim());
+    if (clean.isEmpty())
+        return juce::Result::fail("a preset needs a name");
+    const auto folder = userPresetFolder();
+    if (const auto made = folder.createDirectory(); made.failed())
+        return made;
+    const auto xml = state().createXml();
+    const auto file = folder.getChildFile(clean + ".jawaripreset");
+    // Written to a temporary and moved into place: a failed write leaves any older preset intact.
+    juce::TemporaryFile temporary(file);
+    if (xml == nullptr || !xml->writeTo(temporary.getFile()) || !temporary.overwriteTargetFileWithTemporary())
+        return juce::Result::fail("could not write " + file.getFullPathName());
+    return juce::Result::ok();
+}
+
+juce::Result JawariAudioProcessor::loadUserPreset(const juce::File& file)
+{
+    const auto xml = juce::XmlDocument::parse(file);
+    if (xml == nullptr || !xml->hasTagName("JawariState"))
+        return juce::Result::fail(file.getFullPathName() + " is not a Jawari preset");
+    setState(juce::ValueTree::fromXml(*xml));
+    return juce::Result::ok();
+}
+
+}  // namespace jawari::plugin
+
+juce::AudioProcessor* JUCE_CALLTYPE createPluginFilter()
+{
+    return new jawari::plugin::JawariAudioProcessor();
+}

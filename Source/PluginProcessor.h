@@ -1,0 +1,102 @@
+#pragma once
+// Jawari's AudioProcessor: the engine's Instrument behind JUCE parameters, MIDI and state.
+//
+// Threads: processBlock is the audio thread (no allocation, locks, logging or I/O: tested). A
+// builder thread watches the structural parameters (string, obstacle shape and position, pluck and
+// pickup points, inharmonicity, quality, method, release) and builds a new VoicePack for them,
+// handed to the audio thread through LockFreeExchange and freed back on the builder thread.
+
+#include "Instrument.h"
+#include "LockFreeExchange.h"
+#include "Parameters.h"
+
+#include <juce_audio_processors/juce_audio_processors.h>
+
+#include <array>
+#include <atomic>
+#include <memory>
+
+namespace jawari::plugin
+{
+
+class JawariAudioProcessor : public juce::AudioProcessor, private juce::AsyncUpdater
+{
+public:
+    static constexpr int kStateVersion = 2;
+
+    JawariAudioProcessor();
+    ~JawariAudioProcessor() override;
+
+    void prepareToPlay(double sampleRate, int samplesPerBlock) override;
+    void releaseResources() override;
+    bool isBusesLayoutSupported(const BusesLayout& layouts) const override;
+    void processBlock(juce::AudioBuffer<float>&, juce::MidiBuffer&) override;
+    using AudioProcessor::processBlock;
+
+    juce::AudioProcessorEditor* createEditor() override;
+    bool hasEditor() const override { return true; }
+
+    const juce::String getName() const override { return "Jawari"; }
+    bool acceptsMidi() const override { return true; }
+    bool producesMidi() const override { return false; }
+    bool isMidiEffect() const override { return false; }
+    double getTailLengthSeconds() const override { return 5.0; }
+
+    int getNumPrograms() override;
+    int getCurrentProgram() override { return currentProgram_; }
+    void setCurrentProgram(int index) override;
+    const juce::String getProgramName(int index) override;
+    void changeProgramName(int, const juce::String&) override {}
+
+    void getStateInformation(juce::MemoryBlock& destData) override;
+    void setStateInformation(const void* data, int sizeInBytes) override;
+
+    // The state as a ValueTree (parameters, damping curve, version) and back; setState() accepts
+    // anything and falls back to defaults for what is missing, out of range or not a number.
+    juce::ValueTree state() const;
+    void setState(const juce::ValueTree& tree);
+
+    // User presets: the state as XML files in userPresetFolder(). CT. Errors are returned, not thrown.
+    juce::Result saveUserPreset(const juce::String& name);
+    juce::Result loadUserPreset(const juce::File& file);
+
+    // The per-mode damping curve: multipliers at kDampingCurvePoints log-spaced frequencies. CT.
+    float dampingCurvePoint(int i) const { return curve_[size_t(i)].load(); }
+    void setDampingCurvePoint(int i, float multiplier);
+
+    juce::AudioProcessorValueTreeState& parameters() { return parameters_; }
+    Instrument& instrument() { return instrument_; }
+    // The output for the editor's spectrum: the newest samples, lock-free. CT reads.
+    int readRecentOutput(float* dest, int count);
+    float cpuLoad() const { return static_cast<float>(load_.getLoadAsProportion()); }
+    // CT: blocks until the builder has built and the audio thread could take the pack for the
+    // current parameters (tests, offline rendering). Returns false after the timeout.
+    bool waitForBuilds(int timeoutMs = 20000);
+    // The structure the audio thread plays now (CT, approximate).
+    long packsInstalled() const { return packsInstalled_.load(); }
+
+private:
+    class Builder;
+    void handleAsyncUpdate() override;
+    void installNow(std::unique_ptr<VoicePack> pack);
+
+    juce::AudioProcessorValueTreeState parameters_;
+    ParameterReader reader_;
+    std::array<std::atomic<float>, kDampingCurvePoints> curve_;
+    Instrument instrument_;
+    LockFreeExchange<VoicePack> exchange_;
+    std::unique_ptr<Builder> builder_;
+    std::atomic<double> hostRate_{0.0};
+    std::atomic<int> latency_{0};
+    std::atomic<long> packsInstalled_{0};
+    juce::AudioProcessLoadMeasurer load_;
+    int currentProgram_ = 1;
+    // Recent output for the spectrum view: a ring written by the audio thread.
+    static constexpr int kRecent = 8192;
+    std::array<float, kRecent> recent_{};
+    std::atomic<int> recentWrite_{0};
+
+    JUCE_DECLARE_NON_COPYABLE_WITH_LEAK_DETECTOR(JawariAudioProcessor)
+};
+
+}  // namespace jawari::plugin

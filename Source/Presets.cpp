@@ -1,0 +1,57 @@
+#include "Presets.h"
+
+#include "Parameters.h"
+
+namespace jawari::plugin
+{
+
+const std::vector<FactoryPreset>& factoryPresets()
+{
+    // Positions are fractions of the string's length (the paper's 0.501 m and 0.992 m on 1.002 m).
+    static const std::vector<FactoryPreset> presets = {
+        {"Paper centre obstacle",
+         {{ids::stringType, 0.0f}, {ids::obstacleShape, 0.0f}, {ids::obstaclePosition, 0.5f},
+          {ids::obstacleHeight, 0.0f}, {ids::obstacleStiffness, 13.0f}, {ids::obstacleExponent, 1.3f},
+          {ids::obstacleWidth, 1.0f}, {ids::pluckPosition, 0.5f}, {ids::pickupPosition, 0.99f}}},
+        {"Tanpura",
+         {{ids::stringType, 0.0f}, {ids::obstacleShape, 0.0f}, {ids::obstaclePosition, 0.006f / 1.002f},
+          {ids::obstacleHeight, 0.0f}, {ids::obstacleStiffness, 13.0f}, {ids::obstacleExponent, 1.3f},
+          {ids::obstacleWidth, 1.0f}, {ids::pluckPosition, 0.5f}, {ids::pickupPosition, 0.99f},
+          {ids::drone, 1.0f}}},
+        {"Sitar (parabolic bridge)",
+         {{ids::stringType, 1.0f}, {ids::obstacleShape, 1.0f}, {ids::obstaclePosition, 0.012f},
+          {ids::obstacleHeight, 0.0f}, {ids::obstacleStiffness, 12.0f}, {ids::obstacleExponent, 1.5f},
+          {ids::obstacleWidth, 20.0f}, {ids::bridgeCurvature, 8.0f}, {ids::inharmonicity, 1.0e-5f},
+          {ids::pluckPosition, 0.2f}, {ids::pickupPosition, 0.95f}}},
+        {"Bass fret buzz",
+         {{ids::stringType, 2.0f}, {ids::obstacleShape, 2.0f}, {ids::obstacleHeight, -0.25f},
+          {ids::obstacleStiffness, 12.0f}, {ids::obstacleExponent, 1.5f}, {ids::obstacleWidth, 2.0f},
+          {ids::inharmonicity, 1.2e-4f}, {ids::pluckPosition, 0.12f}, {ids::pickupPosition, 0.1f},
+          {ids::release, 0.25f}}},
+    };
+    return presets;
+}
+
+void applyFactoryPreset(juce::AudioProcessorValueTreeState& state, const FactoryPreset& preset)
+{
+    for (auto* p : state.processor.getParameters())
+    {
+        auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p);
+        if (ranged == nullptr)
+            continue;
+        float normalised = ranged->getDefaultValue();
+        for (const auto& [id, value] : preset.values)
+            if (ranged->getParameterID() == id)
+                normalised = ranged->convertTo0to1(value);
+        ranged->setValueNotifyingHost(normalised);
+    }
+}
+
+juce::File userPresetFolder()
+{
+    return juce::File::getSpecialLocation(juce::File::userApplicationDataDirectory)
+        .getChildFile("Jawari")
+        .getChildFile("Presets");
+}
+
+}  // namespace jawari::plugin
