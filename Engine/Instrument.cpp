@@ -11,8 +11,9 @@ namespace jawari
 {
 namespace
 {
-constexpr double kOutputScale = 200.0;     // full scale per metre of pickup displacement (5 mm -> 0 dBFS)
-constexpr double kFadeSeconds = 0.005;     // a stolen string fades out over this
+constexpr double kOutputScale = 200.0;  // full scale per metre of pickup displacement (5 mm -> 0 dBFS)
+constexpr double kPluckMetresPerVelocity = 1.5e-3 * 127.0 / 100.0;  // MIDI velocity 100: 1.5 mm
+constexpr double kFadeSeconds = 0.005;                              // a stolen string fades out over this
 constexpr double kSilentFraction = 1e-10;  // a string below -100 dB of its peak energy stops sounding
 constexpr int kRetuneChunks = 4;           // a moving bend retunes every 4 chunks (128 samples)
 
@@ -143,6 +144,7 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
         }
     }
     pack->latencySamples = pack->voices.front()->latencySamples();
+    pack->outputScale = 120.0 / std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02);
     return pack;
 }
 
@@ -230,16 +232,20 @@ void Instrument::start(int slot, int note, double velocity)
 {
     auto& s = slots_[size_t(slot)];
     auto& voice = *pack_->voices[size_t(slot)];
-    if (!s.sounding || s.note != note)
+    const bool fromRest = !s.sounding || s.note != note;
+    s.note = note;
+    s.ratio = slot < kMidiVoices ? noteRatio(note + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(note);
+    if (fromRest)
     {
         voice.silence();
         s.peakEnergy = 0.0;
     }
-    s.note = note;
-    s.ratio = slot < kMidiVoices ? noteRatio(note + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(note);
     retune(slot);
     voice.unrelease();
-    voice.pluck(velocity);
+    if (fromRest)
+        voice.pluckShape(kPluckMetresPerVelocity * velocity);
+    else
+        voice.pluck(velocity);
     s.held = true;
     s.sustained = false;
     s.sounding = true;
@@ -433,6 +439,7 @@ void Instrument::render(float* left, float* right, int numSamples)
     if (pack_ == nullptr)
         return;
     const double rate = pack_->structure.hostRateHz;
+    const double outputScale = pack_->outputScale;
     for (int offset = 0; offset < numSamples; offset += kChunk)
     {
         const int count = std::min(kChunk, numSamples - offset);
@@ -513,7 +520,9 @@ void Instrument::render(float* left, float* right, int numSamples)
             voice.process(scratch_.data(), count);
             maxIterations_ = std::max(maxIterations_, voice.takeMaxIterations());
             chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
-            const double panLeft = std::sqrt(0.5 * (1.0 - s.pan)), panRight = std::sqrt(0.5 * (1.0 + s.pan));
+            const double level = i < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
+            const double panLeft = level * std::sqrt(0.5 * (1.0 - s.pan)),
+                         panRight = level * std::sqrt(0.5 * (1.0 + s.pan));
             for (int n = 0; n < count; ++n)
             {
                 double g = gainStart + (gain_ - gainStart) * (n + 1) / count;
@@ -524,7 +533,7 @@ void Instrument::render(float* left, float* right, int numSamples)
                     if (s.fade > 0)
                         --s.fade;
                 }
-                const double y = kOutputScale * g * scratch_[size_t(n)];
+                const double y = outputScale * g * scratch_[size_t(n)];
                 left[offset + n] += static_cast<float>(panLeft * y);
                 right[offset + n] += static_cast<float>(panRight * y);
             }

@@ -121,6 +121,9 @@ struct VoicePack
     std::vector<double> drawObstacle;            // kDrawPoints: obstacle height at height 0, or NaN
     int modes = 0;
     int latencySamples = 0;
+    // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
+    // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
+    double outputScale = 120.0;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...).
     void takeStateFrom(VoicePack& other);

@@ -468,6 +468,20 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
     }
 }
 
+void ModalSolver::startFrom(const double* modalDisplacement)
+{
+    layout_ = Layout::single;
+    c1_ = c2_ = 0.0;
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const int p = active_[i];
+        const double back = sigma_[p] * dt_ <= 0.5 ? -dt_ : dt_;  // as setInitialDisplacement()
+        q_[i] = modalDisplacement[p];
+        qPrev_[i] = freeDampedMotion(modalDisplacement[p], 0.0, omega_[p], sigma_[p], back);
+    }
+    restartFromModes();
+}
+
 void ModalSolver::setContact(int j, const ContactLaw& law, double height)
 {
     contacts_[size_t(j)].law = law;

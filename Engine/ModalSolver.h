@@ -107,6 +107,11 @@ public:
     // tabulated by the caller (the editor's drawing of the string). No allocation.
     void displacementAt(const double* shapes, int count, double* out);
 
+    // RT: the string released from rest at the given modal displacement (M values), q^{-1} from
+    // each mode's exact free motion as in setInitialDisplacement(). Only the active modes take it
+    // (all of them with keepEveryMode). No allocation.
+    void startFrom(const double* modalDisplacement);
+
     // RT: the string at rest at zero (after a blow-up), without touching the tables.
     void resetToRest();
     // RT: take the string state of another solver of the same modes (a new obstacle or contact

@@ -85,6 +85,8 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
     omegaScratch_.assign(baseOmega_.size(), 0.0);
     for (int j = 0; j < solver_.contactCount(); ++j)
         baseHeights_.push_back(solver_.contact(j).height);
+    unitPluck_ = pluckModalShape(config.string.lengthMetres, solver_.modeCount(), config.excitationPosition, 1.0);
+    pluckScratch_.assign(unitPluck_.size(), 0.0);
     block_.assign(oversampling_, 0.0);
     lengthMetres_ = config.string.lengthMetres;
     pickupCompliance_ = solver_.pickupCompliance();
@@ -107,6 +109,19 @@ void Voice::pluck(double velocity)
     pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_;
     pulseStep_ = 0;
     runawayLimit_ = std::numeric_limits<double>::infinity();  // until the pulse is over (only NaN is caught)
+}
+
+void Voice::pluckShape(double amplitudeMetres)
+{
+    for (size_t p = 0; p < unitPluck_.size(); ++p)
+        pluckScratch_[p] = amplitudeMetres * unitPluck_[p];
+    solver_.setExternalForce(0.0);
+    solver_.startFrom(pluckScratch_.data());
+    decimator_.reset();
+    std::fill(block_.begin(), block_.end(), 0.0);
+    first_ = true;
+    pulseStep_ = -1;
+    raiseCeiling();
 }
 
 void Voice::raiseCeiling()

@@ -57,7 +57,11 @@ public:
     // pluck), as the reference starts.
     void setInitialShape(double position, double amplitudeMetres);
 
-    void pluck(double velocity);                // RT: a force pulse at the excitation point; works while sounding
+    void pluck(double velocity);  // RT: a force pulse at the excitation point; works while sounding
+    // RT: the string released from the triangular shape of the given amplitude (m) at the
+    // excitation point: the paper's pluck (setInitialShape() without allocating). From rest only:
+    // whatever the string was doing is replaced.
+    void pluckShape(double amplitudeMetres);
     void release();                             // RT: note-off, the string rings down over releaseSeconds
     void unrelease();                           // RT: back to the string's own damping (a new note)
     void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
@@ -118,6 +122,7 @@ private:
     double maxPenetration_ = 0.0;
     double ratio_ = 1.0;
     std::vector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
+    std::vector<double> unitPluck_, pluckScratch_;  // the 1 m triangular pluck's modal shape
 };
 
 // What the reference and the voice share: M modes of the string at rate R, the contact points

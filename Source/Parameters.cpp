@@ -9,15 +9,32 @@ namespace
 using Range = juce::NormalisableRange<float>;
 
 // The ids in the order ParameterReader indexes them.
-constexpr const char* kOrder[] = {ids::stringType,       ids::obstacleShape,    ids::obstaclePosition,
-                                  ids::obstacleHeight,   ids::obstacleStiffness, ids::obstacleExponent,
-                                  ids::obstacleWidth,    ids::bridgeCurvature,  ids::pluckPosition,
-                                  ids::pickupPosition,   ids::decayScale,       ids::airDamping,
-                                  ids::viscoelasticLoss, ids::thermoelasticLoss, ids::inharmonicity,
-                                  ids::release,          ids::quality,          ids::method,
-                                  ids::gain,             ids::bendRange,        ids::drone,
-                                  ids::droneTonic,       ids::droneFirst,       ids::droneTempo,
-                                  ids::humanise,         ids::droneLevel};
+constexpr const char* kOrder[] = {ids::stringType,
+                                  ids::obstacleShape,
+                                  ids::obstaclePosition,
+                                  ids::obstacleHeight,
+                                  ids::obstacleStiffness,
+                                  ids::obstacleExponent,
+                                  ids::obstacleWidth,
+                                  ids::bridgeCurvature,
+                                  ids::pluckPosition,
+                                  ids::pickupPosition,
+                                  ids::decayScale,
+                                  ids::airDamping,
+                                  ids::viscoelasticLoss,
+                                  ids::thermoelasticLoss,
+                                  ids::inharmonicity,
+                                  ids::release,
+                                  ids::quality,
+                                  ids::method,
+                                  ids::gain,
+                                  ids::bendRange,
+                                  ids::drone,
+                                  ids::droneTonic,
+                                  ids::droneFirst,
+                                  ids::droneTempo,
+                                  ids::humanise,
+                                  ids::droneLevel};
 static_assert(std::size(kOrder) == 26);
 
 Range skewed(float lo, float hi, float centre)
@@ -43,25 +60,27 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     juce::StringArray strings;
     for (const auto& s : kStringTypes)
         strings.add(s.name);
-    layout.add(std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::stringType, 1}, "String", strings, 0));
+    layout.add(
+        std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::stringType, 1}, "String", strings, 0));
     layout.add(std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::obstacleShape, 1}, "Obstacle shape",
-                                                            juce::StringArray{"point", "parabolic bridge", "frets"}, 0));
-    layout.add(number(ids::obstaclePosition, "Obstacle position", Range(0.005f, 0.995f, 0.0001f), 0.006f, "x L"));
+                                                            juce::StringArray{"point", "parabolic bridge", "frets"},
+                                                            0));
+    layout.add(number(ids::obstaclePosition, "Obstacle position", Range(0.005f, 0.995f), 0.006f, "x L", 4));
     layout.add(number(ids::obstacleHeight, "Obstacle height", Range(-5.0f, 1.0f, 0.0001f), 0.0f, "mm", 4));
     layout.add(number(ids::obstacleStiffness, "Obstacle stiffness", Range(6.0f, 16.0f, 0.01f), 13.0f, "log10 K", 2));
     layout.add(number(ids::obstacleExponent, "Obstacle exponent", Range(1.0f, 4.0f, 0.01f), 1.3f, "alpha", 2));
     layout.add(number(ids::obstacleWidth, "Obstacle width", skewed(0.1f, 50.0f, 3.0f), 1.0f, "mm", 2));
     layout.add(number(ids::bridgeCurvature, "Bridge curvature", skewed(0.0f, 100.0f, 5.0f), 2.0f, "1/m", 2));
-    layout.add(number(ids::pluckPosition, "Pluck position", Range(0.02f, 0.98f, 0.0001f), 0.5f, "x L"));
-    layout.add(number(ids::pickupPosition, "Pickup position", Range(0.01f, 0.99f, 0.0001f), 0.99f, "x L"));
+    layout.add(number(ids::pluckPosition, "Pluck position", Range(0.02f, 0.98f), 0.5f, "x L", 4));
+    layout.add(number(ids::pickupPosition, "Pickup position", Range(0.01f, 0.995f), 0.992f / 1.002f, "x L", 4));
     layout.add(number(ids::decayScale, "Decay scale", skewed(0.1f, 10.0f, 1.0f), 1.0f, "x", 2));
     layout.add(number(ids::airDamping, "Air damping", skewed(0.0f, 10.0f, 1.0f), 1.0f, "x", 2));
     layout.add(number(ids::viscoelasticLoss, "Viscoelastic loss", Range(0.0f, 0.05f, 0.0001f), 0.006f, "delta_ve", 4));
     layout.add(number(ids::thermoelasticLoss, "Thermoelastic loss", Range(0.0f, 10.0f, 0.01f), 1.38f, "1e-4/Q", 2));
     layout.add(number(ids::inharmonicity, "Inharmonicity", skewed(0.0f, 1e-3f, 5e-5f), 1.78e-5f, "B", 7));
     layout.add(number(ids::release, "Release", skewed(0.05f, 5.0f, 0.5f), 0.4f, "s", 2));
-    layout.add(std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::quality, 1}, "Quality",
-                                                            juce::StringArray{"draft", "standard", "high", "paper"}, 1));
+    layout.add(std::make_unique<juce::AudioParameterChoice>(
+        juce::ParameterID{ids::quality, 1}, "Quality", juce::StringArray{"draft", "standard", "high", "paper"}, 1));
     layout.add(std::make_unique<juce::AudioParameterChoice>(
         juce::ParameterID{ids::method, 1}, "Contact method",
         juce::StringArray{"energy-conserving", "quadratised", "penalty"}, 0));

@@ -164,7 +164,8 @@ void DampingCurveEditor::mouseDrag(const juce::MouseEvent& e)
     if (dragging_ < 0)
         return;
     const auto area = getLocalBounds().toFloat().reduced(14.0f);
-    const float octaves = juce::jlimit(-3.0f, 3.0f, (area.getCentreY() - e.position.y) / (0.5f * area.getHeight()) * 3.0f);
+    const float octaves =
+        juce::jlimit(-3.0f, 3.0f, (area.getCentreY() - e.position.y) / (0.5f * area.getHeight()) * 3.0f);
     processor_.setDampingCurvePoint(dragging_, std::exp2(octaves));
     repaint();
 }
@@ -190,8 +191,7 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     meter_.setJustificationType(juce::Justification::topLeft);
 
     addAndMakeVisible(presets_);
-    presets_.onChange = [this]
-    {
+    presets_.onChange = [this] {
         const int id = presets_.getSelectedId();
         const int factory = static_cast<int>(factoryPresets().size());
         if (id >= 1 && id <= factory)
@@ -207,8 +207,7 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     addAndMakeVisible(presetName_);
     presetName_.setTextToShowWhenEmpty("preset name", juce::Colours::grey);
     addAndMakeVisible(savePreset_);
-    savePreset_.onClick = [this]
-    {
+    savePreset_.onClick = [this] {
         const auto result = processor_.saveUserPreset(presetName_.getText());
         meter_.setText(result.wasOk() ? "saved " + presetName_.getText() : result.getErrorMessage(),
                        juce::dontSendNotification);
@@ -224,27 +223,27 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     addChoice(ids::quality, "Quality");
     addChoice(ids::method, "Method");
     addChoice(ids::droneFirst, "First string");
-    for (const auto& [id, title] : std::vector<std::pair<const char*, const char*>>{
-             {ids::obstaclePosition, "Position"},
-             {ids::obstacleHeight, "Height mm"},
-             {ids::obstacleStiffness, "log10 K"},
-             {ids::obstacleExponent, "Exponent"},
-             {ids::obstacleWidth, "Width mm"},
-             {ids::bridgeCurvature, "Curvature"},
-             {ids::pluckPosition, "Pluck at"},
-             {ids::pickupPosition, "Pickup at"},
-             {ids::inharmonicity, "Inharmonicity"},
-             {ids::release, "Release s"},
-             {ids::decayScale, "Decay x"},
-             {ids::airDamping, "Air x"},
-             {ids::viscoelasticLoss, "Visco"},
-             {ids::thermoelasticLoss, "Thermo"},
-             {ids::gain, "Gain dB"},
-             {ids::bendRange, "Bend st"},
-             {ids::droneTonic, "Sa (MIDI)"},
-             {ids::droneTempo, "Tempo"},
-             {ids::humanise, "Humanise"},
-             {ids::droneLevel, "Drone level"}})
+    for (const auto& [id, title] :
+         std::vector<std::pair<const char*, const char*>>{{ids::obstaclePosition, "Position"},
+                                                          {ids::obstacleHeight, "Height mm"},
+                                                          {ids::obstacleStiffness, "log10 K"},
+                                                          {ids::obstacleExponent, "Exponent"},
+                                                          {ids::obstacleWidth, "Width mm"},
+                                                          {ids::bridgeCurvature, "Curvature"},
+                                                          {ids::pluckPosition, "Pluck at"},
+                                                          {ids::pickupPosition, "Pickup at"},
+                                                          {ids::inharmonicity, "Inharmonicity"},
+                                                          {ids::release, "Release s"},
+                                                          {ids::decayScale, "Decay x"},
+                                                          {ids::airDamping, "Air x"},
+                                                          {ids::viscoelasticLoss, "Visco"},
+                                                          {ids::thermoelasticLoss, "Thermo"},
+                                                          {ids::gain, "Gain dB"},
+                                                          {ids::bendRange, "Bend st"},
+                                                          {ids::droneTonic, "Sa (MIDI)"},
+                                                          {ids::droneTempo, "Tempo"},
+                                                          {ids::humanise, "Humanise"},
+                                                          {ids::droneLevel, "Drone level"}})
         addKnob(id, title);
 
     constrainer_.setMinimumSize(860, 600);
@@ -267,8 +266,8 @@ void JawariEditor::addKnob(const char* id, const char* title)
     k.label = std::make_unique<juce::Label>(juce::String(), title);
     k.label->setJustificationType(juce::Justification::centred);
     k.label->setColour(juce::Label::textColourId, kText);
-    k.attachment = std::make_unique<juce::AudioProcessorValueTreeState::SliderAttachment>(processor_.parameters(), id,
-                                                                                          *k.slider);
+    k.attachment =
+        std::make_unique<juce::AudioProcessorValueTreeState::SliderAttachment>(processor_.parameters(), id, *k.slider);
     addAndMakeVisible(*k.slider);
     addAndMakeVisible(*k.label);
     knobs_.push_back(std::move(k));
@@ -282,8 +281,8 @@ void JawariEditor::addChoice(const char* id, const char* title)
         c.box->addItemList(choice->choices, 1);
     c.label = std::make_unique<juce::Label>(juce::String(), title);
     c.label->setColour(juce::Label::textColourId, kText);
-    c.attachment = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(processor_.parameters(), id,
-                                                                                            *c.box);
+    c.attachment =
+        std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(processor_.parameters(), id, *c.box);
     addAndMakeVisible(*c.box);
     addAndMakeVisible(*c.label);
     choices_.push_back(std::move(c));

@@ -49,8 +49,7 @@ class DampingCurveEditor : public juce::Component
 public:
     explicit DampingCurveEditor(JawariAudioProcessor& p)
         : processor_(p)
-    {
-    }
+    {}
     void paint(juce::Graphics& g) override;
     void mouseDown(const juce::MouseEvent& e) override;
     void mouseDrag(const juce::MouseEvent& e) override;

@@ -16,8 +16,7 @@ public:
     explicit Builder(JawariAudioProcessor& owner)
         : juce::Thread("Jawari builder")
         , owner_(owner)
-    {
-    }
+    {}
 
     void setBuilt(const InstrumentStructure& s)
     {
@@ -112,7 +111,8 @@ void JawariAudioProcessor::releaseResources()
 bool JawariAudioProcessor::isBusesLayoutSupported(const BusesLayout& layouts) const
 {
     const auto out = layouts.getMainOutputChannelSet();
-    return layouts.inputBuses.isEmpty() && (out == juce::AudioChannelSet::mono() || out == juce::AudioChannelSet::stereo());
+    return layouts.inputBuses.isEmpty()
+           && (out == juce::AudioChannelSet::mono() || out == juce::AudioChannelSet::stereo());
 }
 
 void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
@@ -133,8 +133,7 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
     float* right = buffer.getNumChannels() > 1 ? buffer.getWritePointer(1) : nullptr;
     std::array<float, Instrument::kChunk> spare{};
     int position = 0;
-    auto renderTo = [&](int end)
-    {
+    auto renderTo = [&](int end) {
         while (position < end)
         {
             const int count = right != nullptr ? end - position : std::min(end - position, Instrument::kChunk);
@@ -296,7 +295,8 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
                              : v.toString().containsOnly("0123456789+-.eE") && v.toString().isNotEmpty()
                                  ? v.toString().getDoubleValue()
                                  : 1.0;
-        setDampingCurvePoint(i, std::isfinite(value) && value > 0.0 ? static_cast<float>(value) : 1.0f);
+        const bool valid = std::isfinite(value) && value >= 0.125 && value <= 8.0;
+        setDampingCurvePoint(i, valid ? static_cast<float>(value) : 1.0f);
     }
     const int program = static_cast<int>(tree.getProperty("program", 1));
     currentProgram_ = program >= 0 && program < getNumPrograms() ? program : 1;

@@ -7,71 +7,13 @@
 
 #include <catch2/catch.hpp>
 
+#include "AllocationCounter.h"
+
 #include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace
-{
-// Counted per thread: only allocations made by a thread inside a CountAllocations scope count.
-thread_local bool counting = false;
-std::atomic<long> allocations{0};
-
-struct CountAllocations
-{
-    CountAllocations()
-    {
-        allocations = 0;
-        counting = true;
-    }
-    ~CountAllocations() { counting = false; }
-};
-}  // namespace
-
-void* operator new(std::size_t size)
-{
-    if (counting)
-        ++allocations;
-    if (void* p = std::malloc(size == 0 ? 1 : size))
-        return p;
-    throw std::bad_alloc();
-}
-void* operator new[](std::size_t size)
-{
-    return operator new(size);
-}
-void* operator new(std::size_t size, std::align_val_t alignment)
-{
-    if (counting)
-        ++allocations;
-    if (void* p = std::aligned_alloc(static_cast<std::size_t>(alignment),
-                                     (size + static_cast<std::size_t>(alignment) - 1)
-                                         / static_cast<std::size_t>(alignment) * static_cast<std::size_t>(alignment)))
-        return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept
-{
-    std::free(p);
-}
-void operator delete[](void* p) noexcept
-{
-    std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept
-{
-    std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept
-{
-    std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept
-{
-    std::free(p);
-}
 
 using namespace jawari;
+using test::allocations;
+using test::CountAllocations;
 
 TEST_CASE("the allocation counter sees allocations")
 {

@@ -1,0 +1,411 @@
+// The plugin without a host or a window: the real AudioProcessor rendered offline and compared
+// with the reference solver; what pluginval checks (state round trip, parameters changed from
+// another thread while audio runs, block sizes and sample rates, no allocation in processBlock);
+// and the robustness checks of setStateInformation and parameter extremes.
+
+#include "AllocationCounter.h"
+#include "Analysis.h"
+#include "OfflineRender.h"
+#include "PluginEditor.h"
+#include "PluginProcessor.h"
+#include "Presets.h"
+#include "Scene.h"
+#include "Voice.h"
+
+#include <catch2/catch.hpp>
+
+#include <juce_audio_processors/juce_audio_processors.h>
+#include <juce_events/juce_events.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <random>
+#include <thread>
+#include <vector>
+
+using namespace jawari;
+using namespace jawari::plugin;
+
+namespace
+{
+// A message manager for the whole binary (parameters and the editor expect one).
+juce::ScopedJuceInitialiser_GUI& gui()
+{
+    static juce::ScopedJuceInitialiser_GUI instance;
+    return instance;
+}
+
+void setParameter(JawariAudioProcessor& p, const char* id, float value)
+{
+    auto* param = p.parameters().getParameter(id);
+    REQUIRE(param != nullptr);
+    param->setValueNotifyingHost(param->convertTo0to1(value));
+}
+
+float parameterValue(JawariAudioProcessor& p, const char* id)
+{
+    return p.parameters().getRawParameterValue(id)->load();
+}
+
+// Renders `seconds` with one note held from the start; returns the left channel.
+std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, double seconds, int note = 55,
+                               juce::uint8 velocity = 100)
+{
+    juce::AudioBuffer<float> buffer(2, block);
+    std::vector<double> out;
+    const long total = std::lround(seconds * rate);
+    for (long n = 0; n < total; n += block)
+    {
+        juce::MidiBuffer midi;
+        if (n == 0)
+            midi.addEvent(juce::MidiMessage::noteOn(1, note, velocity), 0);
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        for (int i = 0; i < block && n + i < total; ++i)
+            out.push_back(buffer.getSample(0, i));
+    }
+    return out;
+}
+
+double peakOf(const std::vector<double>& y)
+{
+    double m = 0.0;
+    for (double v : y)
+        m = std::max(m, std::abs(v));
+    return m;
+}
+
+bool allFinite(const juce::AudioBuffer<float>& b)
+{
+    for (int c = 0; c < b.getNumChannels(); ++c)
+        for (int i = 0; i < b.getNumSamples(); ++i)
+            if (!std::isfinite(b.getSample(c, i)) || std::abs(b.getSample(c, i)) > 1.0f)
+                return false;
+    return true;
+}
+}  // namespace
+
+TEST_CASE("Headless render of the paper presets matches the reference solver", "[plugin]")
+{
+    // The real AudioProcessor, no window: the preset of a paper scene, the note of the scene's
+    // string (G3, 196 Hz), velocity 100 (the scene's 1.5 mm pluck at its point), 1.2 s rendered;
+    // the reference solver renders the scene file itself (1001 modes at 2 MHz).
+    gui();
+    struct Case
+    {
+        int program;
+        const char* scene;
+        double lowHz, highHz;  // where the fundamental is (the centre obstacle raises it by 4/3)
+        double lsdBound;       // the standard quality's documented bounds (README): 2 and 3 dB
+    };
+    for (const auto& c :
+         {Case{0, "paper-centre.json", 230.0, 290.0, 2.0}, Case{1, "paper-tanpura.json", 180.0, 210.0, 3.0}})
+    {
+        JawariAudioProcessor p;
+        p.setCurrentProgram(c.program);
+        setParameter(p, ids::drone, 0.0f);
+        setParameter(p, ids::quality, 1.0f);  // standard
+        const double rate = 48000.0;
+        p.prepareToPlay(rate, 512);
+        const auto y = renderNote(p, rate, 512, 1.2, 55, 100);
+        const int latency = p.getLatencySamples();
+
+        const Scene scene = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + c.scene);
+        const auto reference = renderScene(scene).output;
+        // The plugin's output is the centre-panned pickup displacement x outputScale, delayed by its latency.
+        const double scale = p.instrument().pack()->outputScale * std::sqrt(0.5);
+        std::vector<double> a(y.begin() + latency, y.end());
+        std::vector<double> b(reference.begin(), reference.end());
+        const size_t n = std::min(a.size(), b.size());
+        a.resize(n);
+        b.resize(n);
+        for (double& v : b)
+            v *= scale;
+        const double lsd = logSpectralDistance(a, b, rate, 1.0);
+        const double l2 = relativeL2(a, b, 4800);
+        const double fa = peakFrequency(a, rate, c.lowHz, c.highHz, 0, 48000);
+        const double fb = peakFrequency(b, rate, c.lowHz, c.highHz, 0, 48000);
+        const auto* pack = p.instrument().pack();
+        INFO(c.scene << ": plugin " << pack->modes << " modes x" << pack->voices[0]->oversampling() << "; f0 " << fa
+                     << " vs " << fb << " Hz; LSD(0-1 s) " << lsd << " dB; relL2(0-100 ms) " << l2 << "; peak "
+                     << peakOf(a) << " vs " << peakOf(b));
+        CHECK(std::abs(fa / fb - 1.0) < 1e-3);
+        CHECK(lsd < c.lsdBound);
+        CHECK(peakOf(a) == Approx(peakOf(b)).epsilon(0.05));
+        CHECK(p.instrument().blowUps() == 0);
+    }
+}
+
+TEST_CASE("The state round-trips every parameter and the damping curve", "[plugin]")
+{
+    gui();
+    JawariAudioProcessor a;
+    std::mt19937 rng(7);
+    for (auto* param : a.getParameters())
+        param->setValueNotifyingHost(std::uniform_real_distribution<float>(0.0f, 1.0f)(rng));
+    for (int i = 0; i < kDampingCurvePoints; ++i)
+        a.setDampingCurvePoint(i, 0.25f + 0.5f * float(i));
+    juce::MemoryBlock blob;
+    a.getStateInformation(blob);
+    JawariAudioProcessor b;
+    b.setStateInformation(blob.getData(), int(blob.getSize()));
+    int checked = 0;
+    for (int i = 0; i < a.getParameters().size(); ++i)
+    {
+        auto* pa = dynamic_cast<juce::RangedAudioParameter*>(a.getParameters()[i]);
+        auto* pb = dynamic_cast<juce::RangedAudioParameter*>(b.getParameters()[i]);
+        INFO(pa->getParameterID());
+        CHECK(pa->convertFrom0to1(pa->getValue()) == Approx(pb->convertFrom0to1(pb->getValue())).margin(1e-5));
+        ++checked;
+    }
+    CHECK(checked == 26);
+    for (int i = 0; i < kDampingCurvePoints; ++i)
+        CHECK(b.dampingCurvePoint(i) == Approx(std::clamp(0.25f + 0.5f * float(i), 0.125f, 8.0f)));
+}
+
+TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
+{
+    gui();
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);  // draft keeps the test short
+    p.prepareToPlay(48000.0, 256);
+    std::atomic<bool> running{true};
+    std::thread fuzzer([&] {
+        std::mt19937 rng(11);
+        const auto& params = p.getParameters();
+        while (running)
+        {
+            auto* param = params[int(rng() % unsigned(params.size()))];
+            // Quality "paper" would make this test slow; every other value of everything goes.
+            if (auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(param);
+                ranged != nullptr && ranged->getParameterID() == ids::quality)
+                continue;
+            param->setValueNotifyingHost(std::uniform_real_distribution<float>(0.0f, 1.0f)(rng));
+            std::this_thread::sleep_for(std::chrono::microseconds(300));
+        }
+    });
+    juce::AudioBuffer<float> buffer(2, 256);
+    bool finite = true;
+    for (int b = 0; b < 1500; ++b)
+    {
+        juce::MidiBuffer midi;
+        if (b % 20 == 0)
+            midi.addEvent(juce::MidiMessage::noteOn(1, 40 + b % 37, juce::uint8(60 + b % 60)), b % 256);
+        if (b % 20 == 10)
+            midi.addEvent(juce::MidiMessage::noteOff(1, 40 + (b - 10) % 37), 3);
+        if (b % 7 == 0)
+            midi.addEvent(juce::MidiMessage::pitchWheel(1, (b * 977) % 16384), 100);
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        finite = finite && allFinite(buffer);
+    }
+    running = false;
+    fuzzer.join();
+    INFO("packs installed " << p.packsInstalled());
+    CHECK(finite);
+    CHECK(p.packsInstalled() > 3);  // the structure changed under the audio and was rebuilt
+}
+
+TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz", "[plugin]")
+{
+    gui();
+    for (const double rate : {44100.0, 48000.0, 88200.0, 96000.0, 176400.0, 192000.0})
+        for (const int block : {1, 17, 64, 512, 4096})
+        {
+            JawariAudioProcessor p;
+            p.setCurrentProgram(1);  // tanpura
+            setParameter(p, ids::drone, 0.0f);
+            setParameter(p, ids::quality, 0.0f);
+            p.prepareToPlay(rate, block);
+            const auto y = renderNote(p, rate, block, block == 1 ? 0.1 : 0.6, 69);
+            INFO("rate " << rate << " block " << block);
+            bool finite = true;
+            for (double v : y)
+                finite = finite && std::isfinite(v) && std::abs(v) <= 1.0;
+            CHECK(finite);
+            CHECK(peakOf(y) > 1e-3);
+            if (block == 512)
+            {
+                // In tune at every rate: A4 = 440 Hz.
+                const double f = peakFrequency(y, rate, 400.0, 480.0, size_t(0.1 * rate));
+                INFO("f0 " << f);
+                CHECK(std::abs(f / 440.0 - 1.0) < 2e-3);
+            }
+        }
+}
+
+TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack", "[plugin]")
+{
+    gui();
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);
+    p.prepareToPlay(48000.0, 512);
+    juce::AudioBuffer<float> buffer(2, 512);
+    juce::MidiBuffer midi;
+    midi.ensureSize(4096);
+    // A structural change: the builder builds a new pack off this thread; processBlock takes it.
+    setParameter(p, ids::obstaclePosition, 0.3f);
+    REQUIRE(p.waitForBuilds());
+    const long before = p.packsInstalled();
+    long counted = 0;
+    {
+        test::CountAllocations guard;
+        for (int b = 0; b < 200; ++b)
+        {
+            midi.clear();
+            if (b < 12)
+                midi.addEvent(juce::MidiMessage::noteOn(1, 48 + b, juce::uint8(100)), b * 13);
+            if (b == 30)
+                midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 127), 0);
+            if (b == 40)
+                midi.addEvent(juce::MidiMessage::pitchWheel(1, 12000), 5);
+            if (b == 60)
+                for (int n = 0; n < 12; ++n)
+                    midi.addEvent(juce::MidiMessage::noteOff(1, 48 + n), n);
+            if (b == 80)
+                midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 0), 0);
+            if (b == 100)
+                midi.addEvent(juce::MidiMessage::allNotesOff(1), 0);
+            p.processBlock(buffer, midi);
+        }
+        counted = test::allocations;
+    }
+    INFO("packs installed during the run " << p.packsInstalled() - before);
+    CHECK(counted == 0);
+    CHECK(p.packsInstalled() > before);
+}
+
+TEST_CASE("setStateInformation survives empty, truncated, random and older-version data", "[plugin]")
+{
+    gui();
+    JawariAudioProcessor p;
+    setParameter(p, ids::gain, -6.0f);
+    juce::MemoryBlock good;
+    p.getStateInformation(good);
+    std::mt19937 rng(3);
+    // Empty, null and truncated: nothing changes.
+    p.setStateInformation(nullptr, 0);
+    p.setStateInformation(good.getData(), 0);
+    for (size_t cut = 1; cut < good.getSize(); cut += 7)
+        p.setStateInformation(good.getData(), int(cut));
+    CHECK(parameterValue(p, ids::gain) == Approx(-6.0f));
+    // Thousands of random blobs, some behind a valid JUCE XML header so the parser sees them.
+    std::vector<char> blob;
+    for (int i = 0; i < 3000; ++i)
+    {
+        blob.resize(size_t(1 + rng() % 600));
+        for (auto& c : blob)
+            c = char(rng());
+        if (i % 2 == 0 && blob.size() > 8)
+        {
+            const juce::uint32 magic = 0x21324356, size = juce::uint32(blob.size() - 8);
+            std::memcpy(blob.data(), &magic, 4);
+            std::memcpy(blob.data() + 4, &size, 4);
+        }
+        p.setStateInformation(blob.data(), int(blob.size()));
+    }
+    // Mangled values inside a real state: NaN, infinities, text, out of range, unknown ids.
+    for (const char* bad : {"nan", "inf", "-inf", "1e400", "banana", "", "-1e30", "1e30"})
+    {
+        juce::ValueTree tree = p.state();
+        auto params = tree.getChildWithName("Parameters");
+        for (int i = 0; i < params.getNumChildren(); ++i)
+            params.getChild(i).setProperty("value", bad, nullptr);
+        tree.getChildWithName("DampingCurve").setProperty("p3", bad, nullptr);
+        juce::MemoryBlock mangled;
+        juce::AudioProcessor::copyXmlToBinary(*tree.createXml(), mangled);
+        p.setStateInformation(mangled.getData(), int(mangled.getSize()));
+        for (auto* param : p.getParameters())
+        {
+            auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(param);
+            INFO(ranged->getParameterID() << " after value " << bad);
+            CHECK(ranged->getValue() == Approx(ranged->getDefaultValue()));
+        }
+        CHECK(p.dampingCurvePoint(3) == 1.0f);
+    }
+    // An older state (version 1: no damping curve) with one parameter set: read, the rest default.
+    juce::ValueTree old("JawariState");
+    old.setProperty("version", 1, nullptr);
+    juce::ValueTree params("Parameters");
+    juce::ValueTree gain("Param");
+    gain.setProperty("id", ids::gain, nullptr);
+    gain.setProperty("value", -12.0, nullptr);
+    params.appendChild(gain, nullptr);
+    old.appendChild(params, nullptr);
+    juce::MemoryBlock oldBlob;
+    juce::AudioProcessor::copyXmlToBinary(*old.createXml(), oldBlob);
+    p.setDampingCurvePoint(0, 4.0f);
+    p.setStateInformation(oldBlob.getData(), int(oldBlob.getSize()));
+    CHECK(parameterValue(p, ids::gain) == Approx(-12.0f));
+    CHECK(parameterValue(p, ids::obstacleStiffness) == Approx(13.0f));
+    CHECK(p.dampingCurvePoint(0) == 1.0f);
+    // And it still plays.
+    p.prepareToPlay(48000.0, 256);
+    const auto y = renderNote(p, 48000.0, 256, 0.3);
+    CHECK(peakOf(y) > 1e-3);
+    CHECK(peakOf(y) <= 1.0);
+}
+
+TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite and bounded", "[plugin]")
+{
+    gui();
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);
+    setParameter(p, ids::drone, 1.0f);
+    setParameter(p, ids::droneTempo, 200.0f);
+    p.prepareToPlay(48000.0, 32);
+    // Every continuous parameter jumps between its ends every 32-sample block (1.5 kHz), notes
+    // hammer away; the structural ones change too, so the builder keeps swapping packs.
+    const char* rt[] = {ids::obstacleHeight, ids::obstacleStiffness, ids::obstacleExponent,  ids::decayScale,
+                        ids::airDamping,     ids::viscoelasticLoss,  ids::thermoelasticLoss, ids::gain,
+                        ids::bendRange,      ids::humanise,          ids::droneLevel,        ids::droneTonic};
+    juce::AudioBuffer<float> buffer(2, 32);
+    double peak = 0.0;
+    bool finite = true;
+    const int blocks = 60 * 48000 / 32;
+    for (int b = 0; b < blocks; ++b)
+    {
+        for (size_t i = 0; i < std::size(rt); ++i)
+            p.parameters().getParameter(rt[i])->setValueNotifyingHost(((b + int(i)) % 2) == 0 ? 0.0f : 1.0f);
+        if (b % 3000 == 0)
+            p.parameters().getParameter(ids::obstaclePosition)->setValueNotifyingHost(float(b % 9000) / 9000.0f);
+        juce::MidiBuffer midi;
+        if (b % 50 == 0)
+            midi.addEvent(juce::MidiMessage::noteOn(1, 30 + (b / 50) % 60, juce::uint8(127)), 0);
+        if (b % 50 == 25)
+            midi.addEvent(juce::MidiMessage::noteOff(1, 30 + (b / 50) % 60), 0);
+        midi.addEvent(juce::MidiMessage::pitchWheel(1, (b % 2) * 16383), 0);
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        finite = finite && allFinite(buffer);
+        peak = std::max<double>(peak, buffer.getMagnitude(0, 32));
+    }
+    INFO("peak " << peak << ", packs installed " << p.packsInstalled() << ", recoveries " << p.instrument().blowUps()
+                 << ", most Newton iterations " << p.instrument().maxIterations());
+    CHECK(finite);
+    CHECK(peak <= 1.0);
+    CHECK(peak > 1e-3);
+}
+
+TEST_CASE("The editor opens without a window and draws the sounding string", "[plugin]")
+{
+    gui();
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);
+    p.prepareToPlay(48000.0, 512);
+    renderNote(p, 48000.0, 512, 0.2);
+    std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
+    REQUIRE(editor != nullptr);
+    editor->setSize(1200, 800);
+    InstrumentSnapshot s;
+    CHECK(p.instrument().snapshots().read(s));
+    CHECK(s.activeStrings == 1);
+    float largest = 0.0f;
+    for (float u : s.shape)
+        largest = std::max(largest, std::abs(u));
+    CHECK(largest > 1e-5f);  // the string is drawn displaced
+    const auto image = editor->createComponentSnapshot(editor->getLocalBounds());
+    CHECK(image.getWidth() == 1200);
+    p.editorBeingDeleted(editor.get());
+}
