@@ -29,13 +29,6 @@ using namespace jawari::plugin;
 
 namespace
 {
-// A message manager for the whole binary (parameters and the editor expect one).
-juce::ScopedJuceInitialiser_GUI& gui()
-{
-    static juce::ScopedJuceInitialiser_GUI instance;
-    return instance;
-}
-
 void setParameter(JawariAudioProcessor& p, const char* id, float value)
 {
     auto* param = p.parameters().getParameter(id);
@@ -91,7 +84,6 @@ TEST_CASE("Headless render of the paper presets matches the reference solver", "
     // The real AudioProcessor, no window: the preset of a paper scene, the note of the scene's
     // string (G3, 196 Hz), velocity 100 (the scene's 1.5 mm pluck at its point), 1.2 s rendered;
     // the reference solver renders the scene file itself (1001 modes at 2 MHz).
-    gui();
     struct Case
     {
         int program;
@@ -139,7 +131,6 @@ TEST_CASE("Headless render of the paper presets matches the reference solver", "
 
 TEST_CASE("The state round-trips every parameter and the damping curve", "[plugin]")
 {
-    gui();
     JawariAudioProcessor a;
     std::mt19937 rng(7);
     for (auto* param : a.getParameters())
@@ -166,7 +157,6 @@ TEST_CASE("The state round-trips every parameter and the damping curve", "[plugi
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
 {
-    gui();
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);  // draft keeps the test short
     p.prepareToPlay(48000.0, 256);
@@ -209,7 +199,6 @@ TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
 
 TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz", "[plugin]")
 {
-    gui();
     for (const double rate : {44100.0, 48000.0, 88200.0, 96000.0, 176400.0, 192000.0})
         for (const int block : {1, 17, 64, 512, 4096})
         {
@@ -237,7 +226,6 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
 
 TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack", "[plugin]")
 {
-    gui();
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
     p.prepareToPlay(48000.0, 512);
@@ -278,7 +266,6 @@ TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack
 
 TEST_CASE("setStateInformation survives empty, truncated, random and older-version data", "[plugin]")
 {
-    gui();
     JawariAudioProcessor p;
     setParameter(p, ids::gain, -6.0f);
     juce::MemoryBlock good;
@@ -349,7 +336,6 @@ TEST_CASE("setStateInformation survives empty, truncated, random and older-versi
 
 TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite and bounded", "[plugin]")
 {
-    gui();
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
     setParameter(p, ids::drone, 1.0f);
@@ -390,7 +376,6 @@ TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite a
 
 TEST_CASE("The editor opens without a window and draws the sounding string", "[plugin]")
 {
-    gui();
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
     p.prepareToPlay(48000.0, 512);
