@@ -61,7 +61,7 @@ struct InstrumentStructure
     double pluckPosition = 0.5;     // fraction of the length
     double pickupPosition = 0.99;   // fraction of the length
     double inharmonicity = 1.78e-5;
-    int quality = 1;  // index into kQualitySettings
+    int quality = 0;  // index into kQualitySettings (draft: eight strings in real time)
     ContactMethod method = ContactMethod::energyConserving;
     double releaseSeconds = 0.4;
     double hostRateHz = 48000.0;

@@ -106,7 +106,8 @@ void Voice::setInitialShape(double position, double amplitudeMetres)
 
 void Voice::pluck(double velocity)
 {
-    pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_;
+    // Scaled with the tuning (tension ~ ratio^2): the pulse moves the string as far at any pitch.
+    pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_ * ratio_ * ratio_;
     pulseStep_ = 0;
     runawayLimit_ = std::numeric_limits<double>::infinity();  // until the pulse is over (only NaN is caught)
 }

@@ -80,7 +80,7 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     layout.add(number(ids::inharmonicity, "Inharmonicity", skewed(0.0f, 1e-3f, 5e-5f), 1.78e-5f, "B", 7));
     layout.add(number(ids::release, "Release", skewed(0.05f, 5.0f, 0.5f), 0.4f, "s", 2));
     layout.add(std::make_unique<juce::AudioParameterChoice>(
-        juce::ParameterID{ids::quality, 1}, "Quality", juce::StringArray{"draft", "standard", "high", "paper"}, 1));
+        juce::ParameterID{ids::quality, 1}, "Quality", juce::StringArray{"draft", "standard", "high", "paper"}, 0));
     layout.add(std::make_unique<juce::AudioParameterChoice>(
         juce::ParameterID{ids::method, 1}, "Contact method",
         juce::StringArray{"energy-conserving", "quadratised", "penalty"}, 0));

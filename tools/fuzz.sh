@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
-# Fuzzes the scene parser with libFuzzer (clang from Debian, with AddressSanitizer and
-# UndefinedBehaviorSanitizer) for a bounded time, seeded with the scene corpus and the paper scenes.
-#   bash tools/fuzz.sh [seconds, default 60]
+# libFuzzer (clang from Debian, with AddressSanitizer and UndefinedBehaviorSanitizer), each target
+# for a bounded time:
+#   scene: the scene parser, seeded with the scene corpus and the paper scenes;
+#   state: the plugin's setStateInformation, seeded with a valid state (builds the plugin's code
+#          with clang and the sanitizers in build-fuzz/plugin: about ten minutes the first time).
+#   bash tools/fuzz.sh [seconds per target, default 60] [scene|state|all, default all]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
+which="${2:-all}"
 bash tools/deps.sh
 for p in clang libclang-rt-14-dev; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || {
@@ -13,9 +17,22 @@ for p in clang libclang-rt-14-dev; do
         break
     }
 done
-mkdir -p build-fuzz/corpus
-cp Tests/scenes/corpus/*.json Resources/Scenes/*.json build-fuzz/corpus/
-clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-    -IEngine Tests/Fuzz/SceneParserFuzzer.cpp Engine/Scene.cpp Engine/Obstacle.cpp Engine/StringModel.cpp \
-    -o build-fuzz/scene-parser-fuzzer
-./build-fuzz/scene-parser-fuzzer -max_total_time="$seconds" -max_len=4096 build-fuzz/corpus
+if [ "$which" = scene ] || [ "$which" = all ]; then
+    mkdir -p build-fuzz/corpus
+    cp Tests/scenes/corpus/*.json Resources/Scenes/*.json build-fuzz/corpus/
+    clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
+        -IEngine Tests/Fuzz/SceneParserFuzzer.cpp Engine/Scene.cpp Engine/Obstacle.cpp Engine/StringModel.cpp \
+        -o build-fuzz/scene-parser-fuzzer
+    ./build-fuzz/scene-parser-fuzzer -max_total_time="$seconds" -max_len=4096 build-fuzz/corpus
+fi
+if [ "$which" = state ] || [ "$which" = all ]; then
+    flags="-O1 -g -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
+    cmake -S . -B build-fuzz/plugin -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
+        -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_FLAGS="$flags" -DCMAKE_CXX_FLAGS="$flags" \
+        -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DJAWARI_NATIVE=OFF -DJAWARI_BUILD_FUZZERS=ON
+    cmake --build build-fuzz/plugin -j "$(nproc)" --target jawari-state-fuzzer
+    mkdir -p build-fuzz/state-corpus
+    JAWARI_STATE_SEED=build-fuzz/state-corpus/valid-state.bin \
+        ./build-fuzz/plugin/Tests/jawari-state-fuzzer -max_total_time="$seconds" -max_len=8192 \
+        build-fuzz/state-corpus
+fi

@@ -1,0 +1,98 @@
+// jawari-soak: the tanpura drone rendered offline through the real AudioProcessor for a long time
+// (an hour by default), then a report: non-finite samples, peak level, the worst block's processing
+// time against its real-time budget, Newton iterations, recoveries. Measures and reports; asserts
+// nothing (exit 1 only if a non-finite sample or a sample beyond full scale came out).
+//
+//   jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] [--block 512]
+//               [--polyphony N]   (N held MIDI notes on top of the drone; default 0)
+
+#include "PluginProcessor.h"
+#include "Presets.h"
+
+#include <juce_events/juce_events.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+int main(int argc, char* argv[])
+{
+    juce::ScopedJuceInitialiser_GUI juce;
+    double minutes = 60.0, rate = 48000.0;
+    int block = 512, quality = 1, polyphony = 0;
+    for (int i = 1; i + 1 < argc; i += 2)
+    {
+        const std::string key = argv[i], value = argv[i + 1];
+        if (key == "--minutes")
+            minutes = std::stod(value);
+        else if (key == "--rate")
+            rate = std::stod(value);
+        else if (key == "--block")
+            block = std::stoi(value);
+        else if (key == "--polyphony")
+            polyphony = std::stoi(value);
+        else if (key == "--quality")
+            quality = value == "draft" ? 0 : value == "high" ? 2 : 1;
+        else
+        {
+            std::fprintf(stderr, "jawari-soak: unknown option %s\n", key.c_str());
+            return 2;
+        }
+    }
+    jawari::plugin::JawariAudioProcessor p;
+    p.setCurrentProgram(1);  // tanpura: drone on
+    auto set = [&](const char* id, float v)
+    {
+        auto* param = p.parameters().getParameter(id);
+        param->setValueNotifyingHost(param->convertTo0to1(v));
+    };
+    set(jawari::plugin::ids::quality, float(quality));
+    set(jawari::plugin::ids::drone, 1.0f);
+    p.prepareToPlay(rate, block);
+    juce::AudioBuffer<float> buffer(2, block);
+    const long blocks = std::lround(minutes * 60.0 * rate / block);
+    const double budget = block / rate;
+    double worst = 0.0, total = 0.0, peak = 0.0;
+    long nonFinite = 0, beyond = 0;
+    for (long b = 0; b < blocks; ++b)
+    {
+        juce::MidiBuffer midi;
+        if (b == 0)
+            for (int n = 0; n < polyphony; ++n)
+                midi.addEvent(juce::MidiMessage::noteOn(1, 48 + 2 * n, juce::uint8(100)), 0);
+        buffer.clear();
+        const auto start = std::chrono::steady_clock::now();
+        p.processBlock(buffer, midi);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        worst = std::max(worst, seconds);
+        total += seconds;
+        for (int c = 0; c < 2; ++c)
+            for (int i = 0; i < block; ++i)
+            {
+                const float v = buffer.getSample(c, i);
+                if (!std::isfinite(v))
+                    ++nonFinite;
+                else
+                {
+                    peak = std::max(peak, double(std::abs(v)));
+                    beyond += std::abs(v) > 1.0f ? 1 : 0;
+                }
+            }
+        if (b % long(60.0 * rate / block) == 0 && b > 0)
+            std::fprintf(stderr, "\r%.0f of %.0f minutes", b * budget / 60.0, minutes);
+    }
+    const auto* pack = p.instrument().pack();
+    std::printf("\njawari-soak: %.1f minutes of tanpura drone (%s quality, %d modes x%d, %.0f Hz, %d-sample blocks, "
+                "%d held notes)\n",
+                minutes, quality == 0 ? "draft" : quality == 2 ? "high" : "standard", pack->modes,
+                pack->voices[0]->oversampling(), rate, block, polyphony);
+    std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
+                p.instrument().dronePlucks(), nonFinite, beyond, peak, 20.0 * std::log10(std::max(peak, 1e-12)));
+    std::printf("  worst block %.3f ms = %.1f %% of its %.3f ms budget; mean %.1f %% (%.1fx real time)\n", worst * 1e3,
+                100.0 * worst / budget, budget * 1e3, 100.0 * total / (blocks * budget), blocks * budget / total);
+    std::printf("  most Newton iterations in a step %d, recoveries %ld\n", p.instrument().maxIterations(),
+                p.instrument().blowUps());
+    return nonFinite == 0 && beyond == 0 ? 0 : 1;
+}
