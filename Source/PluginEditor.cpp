@@ -351,7 +351,7 @@ void JawariEditor::resized()
     }
 }
 
-void JawariEditor::timerCallback()
+void JawariEditor::refreshFromProcessor()
 {
     if (processor_.instrument().snapshots().read(snapshot_))
         stringView_.setSnapshot(snapshot_);

@@ -69,9 +69,11 @@ public:
     ~JawariEditor() override;
     void paint(juce::Graphics& g) override;
     void resized() override;
+    // Reads the engine's newest snapshot, the recent output and the meters (the 30 Hz timer).
+    void refreshFromProcessor();
 
 private:
-    void timerCallback() override;
+    void timerCallback() override { refreshFromProcessor(); }
     void refreshPresetList();
 
     struct Knob
