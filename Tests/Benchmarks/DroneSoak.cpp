@@ -5,12 +5,14 @@
 //
 //   jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] [--block 512]
 //               [--polyphony N]   (N held MIDI notes on top of the drone; default 0)
+//               [--drone 0|1]     (default 1; 0 with --polyphony 8 measures eight MIDI strings)
 
 #include "PluginProcessor.h"
 #include "Presets.h"
 
 #include <juce_events/juce_events.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,7 +23,7 @@ int main(int argc, char* argv[])
 {
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
-    int block = 512, quality = 1, polyphony = 0;
+    int block = 512, quality = 1, polyphony = 0, drone = 1;
     for (int i = 1; i + 1 < argc; i += 2)
     {
         const std::string key = argv[i], value = argv[i + 1];
@@ -32,7 +34,9 @@ int main(int argc, char* argv[])
         else if (key == "--block")
             block = std::stoi(value);
         else if (key == "--polyphony")
-            polyphony = std::stoi(value);
+            polyphony = std::clamp(std::stoi(value), 0, 8);
+        else if (key == "--drone")
+            drone = std::stoi(value) != 0 ? 1 : 0;
         else if (key == "--quality")
             quality = value == "draft" ? 0 : value == "high" ? 2 : 1;
         else
@@ -43,13 +47,12 @@ int main(int argc, char* argv[])
     }
     jawari::plugin::JawariAudioProcessor p;
     p.setCurrentProgram(1);  // tanpura: drone on
-    auto set = [&](const char* id, float v)
-    {
+    auto set = [&](const char* id, float v) {
         auto* param = p.parameters().getParameter(id);
         param->setValueNotifyingHost(param->convertTo0to1(v));
     };
     set(jawari::plugin::ids::quality, float(quality));
-    set(jawari::plugin::ids::drone, 1.0f);
+    set(jawari::plugin::ids::drone, float(drone));
     p.prepareToPlay(rate, block);
     juce::AudioBuffer<float> buffer(2, block);
     const long blocks = std::lround(minutes * 60.0 * rate / block);
@@ -84,10 +87,13 @@ int main(int argc, char* argv[])
             std::fprintf(stderr, "\r%.0f of %.0f minutes", b * budget / 60.0, minutes);
     }
     const auto* pack = p.instrument().pack();
-    std::printf("\njawari-soak: %.1f minutes of tanpura drone (%s quality, %d modes x%d, %.0f Hz, %d-sample blocks, "
+    std::printf("\njawari-soak: %.1f minutes of tanpura %s (%s quality, %d modes x%d, %.0f Hz, %d-sample blocks, "
                 "%d held notes)\n",
-                minutes, quality == 0 ? "draft" : quality == 2 ? "high" : "standard", pack->modes,
-                pack->voices[0]->oversampling(), rate, block, polyphony);
+                minutes, drone != 0 ? "drone" : "strings",
+                quality == 0   ? "draft"
+                : quality == 2 ? "high"
+                               : "standard",
+                pack->modes, pack->voices[0]->oversampling(), rate, block, polyphony);
     std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
                 p.instrument().dronePlucks(), nonFinite, beyond, peak, 20.0 * std::log10(std::max(peak, 1e-12)));
     std::printf("  worst block %.3f ms = %.1f %% of its %.3f ms budget; mean %.1f %% (%.1fx real time)\n", worst * 1e3,
