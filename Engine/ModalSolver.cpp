@@ -242,13 +242,6 @@ void ModalSolver::compact(const std::vector<double>& current, const std::vector<
     {
         const int p = active_[i];
         indexOfMode_[p] = i;
-        activeCoeffs_[i] = coeffs_[p];
-        activeCoeffsReleased_[i] = coeffsReleased_[p];
-        aNormal_[i] = coeffs_[p].a;
-        eNormal_[i] = coeffs_[p].e;
-        aReleased_[i] = coeffsReleased_[p].a;
-        eReleased_[i] = coeffsReleased_[p].e;
-        h_[i] = pickupWeights_[p];
         q_[i] = current[p];
         qPrev_[i] = previous[p];
         phiE_[i] = excitationShape_.empty() ? 0.0 : excitationShape_[p];
@@ -265,6 +258,22 @@ void ModalSolver::compact(const std::vector<double>& current, const std::vector<
     canPair_ = !transform_ && P_ <= 1;
     layout_ = Layout::single;
     c1_ = c2_ = 0.0;
+    fillActiveTables();
+}
+
+void ModalSolver::fillActiveTables()
+{
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const int p = active_[i];
+        activeCoeffs_[i] = coeffs_[p];
+        activeCoeffsReleased_[i] = coeffsReleased_[p];
+        aNormal_[i] = coeffs_[p].a;
+        eNormal_[i] = coeffs_[p].e;
+        aReleased_[i] = coeffsReleased_[p].a;
+        eReleased_[i] = coeffsReleased_[p].e;
+        h_[i] = pickupWeights_[p];
+    }
     for (int set = 0; set < 2; ++set)
     {
         const double* a = set == 0 ? aNormal_ : aReleased_;
@@ -422,28 +431,7 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + releaseSigma_, dt_);
         pickupWeights_[p] = pickupScale * basePickupWeights_[p];
     }
-    for (int i = 0; i < Ma_; ++i)
-    {
-        const int p = active_[i];
-        activeCoeffs_[i] = coeffs_[p];
-        activeCoeffsReleased_[i] = coeffsReleased_[p];
-        aNormal_[i] = coeffs_[p].a;
-        eNormal_[i] = coeffs_[p].e;
-        aReleased_[i] = coeffsReleased_[p].a;
-        eReleased_[i] = coeffsReleased_[p].e;
-        h_[i] = pickupWeights_[p];
-    }
-    for (int set = 0; set < 2; ++set)
-    {
-        const double* a = set == 0 ? aNormal_ : aReleased_;
-        sumAPhiSquared_[set] = sumAPhiH_[set] = 0.0;
-        if (canPair_ && P_ == 1)
-            for (int i = 0; i < Ma_; ++i)
-            {
-                sumAPhiSquared_[set] += a[i] * phi_[i] * phi_[i];
-                sumAPhiH_[set] += a[i] * phi_[i] * h_[i];
-            }
-    }
+    fillActiveTables();
     for (int j = 0; j < P_ && !transform_; ++j)
         pickupPhiW_[j] = forceScale_ * contacts_[j].weight * kernels::dot(h_, phi_ + size_t(j) * stride_, Ma_);
     if (!excitationShape_.empty())

@@ -167,6 +167,7 @@ private:
     double solveOnePoint(double uTilde);  // contact at the single point; returns its slope G
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     void compact(const std::vector<double>& current, const std::vector<double>& previous);
+    void fillActiveTables();  // RT: the active modes' coefficients, pickup weights and pairing sums
     void restartFromModes();  // RT: the state derived from q_, qPrev_ (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
 
