@@ -2,6 +2,7 @@
 // the tanpura drone, structure swaps while sounding.
 
 #include "Analysis.h"
+#include "Denormals.h"
 #include "Instrument.h"
 #include "TestSupport.h"
 #include "Voice.h"
@@ -221,4 +222,37 @@ TEST_CASE("A new obstacle position takes over the sounding string without a jump
     INFO("largest sample step: before " << normal << ", across the swap " << swap);
     CHECK(swap < 1.5 * normal);
     CHECK(instrument.activeStrings() == 1);
+}
+
+TEST_CASE("A string decaying to nothing leaves no subnormal numbers behind", "[instrument]")
+{
+    // The instrument renders with flush-to-zero: a released string's modes decay through the
+    // subnormal range (below 2.2e-308) straight to zero instead of crawling through it slowly.
+    InstrumentStructure s = freeStructure();
+    s.releaseSeconds = 0.05;  // 60 dB in 50 ms: e^-700 after about 25 s
+    auto pack = buildVoicePack(s);
+    Instrument instrument;
+    instrument.setControls(freeControls());
+    instrument.install(pack.get(), nullptr);
+    instrument.noteOn(60, 1.0);
+    play(instrument, 0.1);
+    instrument.noteOff(60);
+    // Keep the string stepping (a sounding slot stops at -100 dB; this voice is driven directly).
+    Voice& voice = *pack->voices[0];
+    std::vector<double> out(4800);
+    for (int b = 0; b < 400; ++b)  // 40 s
+    {
+        ScopedFlushDenormals flush;
+        voice.process(out.data(), 4800);
+    }
+    long subnormal = 0, zero = 0;
+    for (bool previous : {false, true})
+        for (double q : voice.solver().modalState(previous))
+        {
+            subnormal += std::fpclassify(q) == FP_SUBNORMAL ? 1 : 0;
+            zero += q == 0.0 ? 1 : 0;
+        }
+    INFO("modal values: " << zero << " exactly zero, " << subnormal << " subnormal");
+    CHECK(subnormal == 0);
+    CHECK(zero > 0);  // the decay did reach the bottom of the range
 }
