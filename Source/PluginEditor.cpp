@@ -17,6 +17,13 @@ void StringView::paint(juce::Graphics& g)
     const auto area = getLocalBounds().toFloat().reduced(8.0f);
     g.setColour(kPanel);
     g.fillRoundedRectangle(getLocalBounds().toFloat(), 6.0f);
+    if (snapshot_.sequence == 0)
+    {
+        g.setColour(kText);
+        g.setFont(13.0f);
+        g.drawText("string: waiting for audio", area.toNearestInt(), juce::Justification::topLeft);
+        return;
+    }
     float peak = 0.0f;
     for (int k = 0; k < kDrawPoints; ++k)
     {

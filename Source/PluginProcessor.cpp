@@ -298,8 +298,8 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
         const bool valid = std::isfinite(value) && value >= 0.125 && value <= 8.0;
         setDampingCurvePoint(i, valid ? static_cast<float>(value) : 1.0f);
     }
-    const int program = static_cast<int>(tree.getProperty("program", 1));
-    currentProgram_ = program >= 0 && program < getNumPrograms() ? program : 1;
+    const int program = static_cast<int>(tree.getProperty("program", 0));
+    currentProgram_ = program >= 0 && program < getNumPrograms() ? program : 0;
 }
 
 void JawariAudioProcessor::getStateInformation(juce::MemoryBlock& destData)

@@ -90,7 +90,7 @@ private:
     std::atomic<int> latency_{0};
     std::atomic<long> packsInstalled_{0};
     juce::AudioProcessLoadMeasurer load_;
-    int currentProgram_ = 1;
+    int currentProgram_ = 0;  // the defaults are factory preset 0
     // Recent output for the spectrum view: a ring written by the audio thread.
     static constexpr int kRecent = 8192;
     std::array<float, kRecent> recent_{};

@@ -9,6 +9,7 @@ const std::vector<FactoryPreset>& factoryPresets()
 {
     // Positions are fractions of the string's length (the paper's 0.501 m and 0.992 m on 1.002 m).
     static const std::vector<FactoryPreset> presets = {
+        {"Default (tanpura bridge, no drone)", {}},
         {"Paper centre obstacle",
          {{ids::stringType, 0.0f},
           {ids::obstacleShape, 0.0f},
@@ -19,7 +20,7 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::obstacleWidth, 1.0f},
           {ids::pluckPosition, 0.5f},
           {ids::pickupPosition, 0.992f / 1.002f}}},
-        {"Tanpura",
+        {"Tanpura drone",
          {{ids::stringType, 0.0f},
           {ids::obstacleShape, 0.0f},
           {ids::obstaclePosition, 0.006f / 1.002f},
@@ -70,6 +71,15 @@ void applyFactoryPreset(juce::AudioProcessorValueTreeState& state, const Factory
                 normalised = ranged->convertTo0to1(value);
         ranged->setValueNotifyingHost(normalised);
     }
+}
+
+int factoryPresetIndex(const juce::String& name)
+{
+    const auto& presets = factoryPresets();
+    for (size_t i = 0; i < presets.size(); ++i)
+        if (name == presets[i].name)
+            return static_cast<int>(i);
+    return -1;
 }
 
 juce::File userPresetFolder()

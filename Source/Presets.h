@@ -17,6 +17,7 @@ struct FactoryPreset
 };
 
 const std::vector<FactoryPreset>& factoryPresets();
+int factoryPresetIndex(const juce::String& name);  // -1 when there is none of that name
 
 // Sets every parameter to the preset's value, or its default where the preset says nothing. CT.
 void applyFactoryPreset(juce::AudioProcessorValueTreeState& state, const FactoryPreset& preset);

@@ -86,16 +86,16 @@ TEST_CASE("Headless render of the paper presets matches the reference solver", "
     // the reference solver renders the scene file itself (1001 modes at 2 MHz).
     struct Case
     {
-        int program;
+        const char* preset;
         const char* scene;
         double lowHz, highHz;  // where the fundamental is (the centre obstacle raises it by 4/3)
         double lsdBound;       // the standard quality's documented bounds (README): 2 and 3 dB
     };
-    for (const auto& c :
-         {Case{0, "paper-centre.json", 230.0, 290.0, 2.0}, Case{1, "paper-tanpura.json", 180.0, 210.0, 3.0}})
+    for (const auto& c : {Case{"Paper centre obstacle", "paper-centre.json", 230.0, 290.0, 2.0},
+                          Case{"Tanpura drone", "paper-tanpura.json", 180.0, 210.0, 3.0}})
     {
         JawariAudioProcessor p;
-        p.setCurrentProgram(c.program);
+        p.setCurrentProgram(factoryPresetIndex(c.preset));
         setParameter(p, ids::drone, 0.0f);
         setParameter(p, ids::quality, 1.0f);  // standard
         const double rate = 48000.0;
@@ -203,7 +203,7 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
         for (const int block : {1, 17, 64, 512, 4096})
         {
             JawariAudioProcessor p;
-            p.setCurrentProgram(1);  // tanpura
+            p.setCurrentProgram(factoryPresetIndex("Tanpura drone"));
             setParameter(p, ids::drone, 0.0f);
             setParameter(p, ids::quality, 0.0f);
             p.prepareToPlay(rate, block);

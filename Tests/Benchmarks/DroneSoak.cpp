@@ -46,7 +46,7 @@ int main(int argc, char* argv[])
         }
     }
     jawari::plugin::JawariAudioProcessor p;
-    p.setCurrentProgram(1);  // tanpura: drone on
+    p.setCurrentProgram(jawari::plugin::factoryPresetIndex("Tanpura drone"));
     auto set = [&](const char* id, float v) {
         auto* param = p.parameters().getParameter(id);
         param->setValueNotifyingHost(param->convertTo0to1(v));

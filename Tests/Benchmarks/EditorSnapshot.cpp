@@ -4,6 +4,7 @@
 
 #include "PluginEditor.h"
 #include "PluginProcessor.h"
+#include "Presets.h"
 
 #include <juce_events/juce_events.h>
 #include <juce_gui_basics/juce_gui_basics.h>
@@ -21,7 +22,7 @@ int main(int argc, char* argv[])
     juce::ScopedJuceInitialiser_GUI juce;
     const double seconds = argc > 2 ? std::stod(argv[2]) : 2.3;
     jawari::plugin::JawariAudioProcessor p;
-    p.setCurrentProgram(1);  // tanpura, drone on
+    p.setCurrentProgram(jawari::plugin::factoryPresetIndex("Tanpura drone"));
     p.prepareToPlay(48000.0, 512);
     std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
     auto* jawariEditor = dynamic_cast<jawari::plugin::JawariEditor*>(editor.get());
