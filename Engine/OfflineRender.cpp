@@ -92,7 +92,10 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     const auto q = automaticQuality(scene);
     VoiceConfig v;
     v.string = scene.string;
-    v.obstacles = scene.obstacles;
+    // Only what the string can reach (Quality.h, reachAt): an obstacle beyond it never touches.
+    for (const auto& o : scene.obstacles)
+        if (obstacleReachable(scene, o))
+            v.obstacles.push_back(o);
     v.excitationPosition = scene.excitation.position;
     v.pickupPosition = scene.pickup.position;
     v.quantity = scene.pickup.quantity;
@@ -100,6 +103,8 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     v.oversampling = q.oversampling;
     v.hostRateHz = scene.simulation.outputRateHz;
     v.residualCompliance = scene.simulation.residualCompliance;
+    if (scene.simulation.method == Method::realtime)
+        v.reach = [scene](double x) { return reachAt(scene, x); };
     v.method = scene.simulation.method == Method::quadratised ? ContactMethod::quadratised
                : scene.simulation.method == Method::penalty   ? ContactMethod::penalty
                                                               : ContactMethod::energyConserving;

@@ -32,11 +32,42 @@ VoiceQuality resolveQuality(const QualitySetting& setting, const StringParameter
     return q;
 }
 
+double reachAt(const Scene& scene, double x)
+{
+    const double L = scene.string.lengthMetres;
+    const double xe = scene.excitation.position;
+    if (!(x > 0.0 && x < L) || !(xe > 0.0 && xe < L))
+        return 0.0;
+    return 1.25 * std::abs(scene.excitation.amplitude) * std::sqrt(x * (L - x) / (xe * (L - xe)));
+}
+
+bool obstacleReachable(const Scene& scene, const Obstacle& obstacle)
+{
+    if (scene.simulation.method != Method::realtime && scene.simulation.method != Method::reference)
+        return true;
+    if (!obstacle.isDistributed())
+        return obstacle.height + reachAt(scene, obstacle.position) > 0.0;
+    // Finer than any grid the voice samples it on (M + 1 <= a few thousand intervals).
+    const double a = std::max(obstacle.supportBegin(), 0.0),
+                 b = std::min(obstacle.supportEnd(), scene.string.lengthMetres);
+    constexpr int kSamples = 4096;
+    for (int i = 0; i <= kSamples; ++i)
+    {
+        const double x = a + (b - a) * i / kSamples;
+        if (obstacle.heightAt(x) + reachAt(scene, x) > 0.0)
+            return true;
+    }
+    return false;
+}
+
 VoiceQuality automaticQuality(const Scene& scene)
 {
     const double host = scene.simulation.outputRateHz;
     VoiceQuality q;
-    if (scene.obstacles.empty())
+    bool reachable = false;
+    for (const auto& o : scene.obstacles)
+        reachable = reachable || obstacleReachable(scene, o);
+    if (!reachable)
     {
         // No contact: every mode is exact at any rate (DESIGN.md section 2), so the host rate
         // itself, and only the modes below the audio band (or the host's Nyquist frequency).

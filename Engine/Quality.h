@@ -36,9 +36,22 @@ std::optional<QualitySetting> qualityByName(const std::string& name);
 // M and the oversampling a setting gives for a string at a host rate.
 VoiceQuality resolveQuality(const QualitySetting& setting, const StringParameters& string, double hostRateHz);
 
-// The automatic choice: the scene's own modes/rate where given; else, with no obstacle, the modes
-// below 20 kHz at the host rate (no contact, nothing to oversample), and the standard setting
-// otherwise.
+// How far the scene's string can ever move at x (m): with the energy-conserving contact the energy
+// never rises above the pluck's, H0 = T A^2 L / (2 x_e (L - x_e)), and |u(x)|^2 <= 2 H0 G(x) with
+// G(x) = x (L - x) / (T L) the static compliance at x (Cauchy-Schwarz over the modes), so
+//   |u(x)| <= A sqrt(x (L - x) / (x_e (L - x_e))).
+// Returned with a 25 % margin for the bending stiffness (which adds (1 + B p^2) to each mode's
+// energy and takes it from its compliance: a few percent for the strings here).
+double reachAt(const Scene& scene, double x);
+
+// Whether some contact point of an obstacle can be reached: g(x) + reach(x) > 0 somewhere on it
+// (heights are g, the string at rest is at 0). Only for the energy-conserving method (the
+// others can gain energy); any other method counts every obstacle as reachable.
+bool obstacleReachable(const Scene& scene, const Obstacle& obstacle);
+
+// The automatic choice: the scene's own modes/rate where given; else, when no obstacle can be
+// reached (none, or all beyond the string's reach), the modes below 20 kHz at the host rate (no
+// contact, nothing to oversample), and the standard setting otherwise.
 VoiceQuality automaticQuality(const Scene& scene);
 
 }  // namespace jawari

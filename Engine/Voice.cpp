@@ -40,6 +40,8 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     const int M = config.modes;
     ModalSolverConfig c = stringSolverConfig(s, config.obstacles, M, config.oversampling * config.hostRateHz,
                                              config.pickupPosition, config.quantity);
+    if (config.reach)
+        std::erase_if(c.contacts, [&](const ContactPoint& p) { return p.height + config.reach(p.position) <= 0.0; });
     if (config.residualCompliance && !c.contacts.empty())
     {
         // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is

@@ -12,6 +12,7 @@
 #include "Scene.h"
 #include "StringModel.h"
 
+#include <functional>
 #include <vector>
 
 namespace jawari
@@ -36,6 +37,9 @@ struct VoiceConfig
     ContactMethod method = ContactMethod::energyConserving;
     // Step every mode (see ModalSolverConfig::keepEveryMode): the plugin's voices.
     bool keepEveryMode = false;
+    // How far the string can ever move at x (m), when known (a scene plucked once: reachAt in
+    // Quality.h): contact points with g + reach <= 0 are left out. Empty: every point is kept.
+    std::function<double(double)> reach;
 };
 
 class Voice

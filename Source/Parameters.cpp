@@ -49,8 +49,10 @@ std::unique_ptr<juce::AudioParameterFloat> number(const char* id, const char* na
 {
     return std::make_unique<juce::AudioParameterFloat>(
         juce::ParameterID{id, 1}, name, range, value,
-        juce::AudioParameterFloatAttributes().withLabel(unit).withStringFromValueFunction(
-            [decimals](float v, int) { return juce::String(v, decimals); }));
+        juce::AudioParameterFloatAttributes().withLabel(unit).withStringFromValueFunction([decimals](float v, int) {
+            // No "-0.0000" for a value that rounds to zero.
+            return juce::String(std::abs(v) < 0.5f * std::pow(10.0f, float(-decimals)) ? 0.0f : v, decimals);
+        }));
 }
 }  // namespace
 

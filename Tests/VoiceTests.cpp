@@ -264,3 +264,105 @@ TEST_CASE("a scene without obstacles gets no oversampling and only the audible m
     CHECK(relativeL2(a, b, 4800) < 1e-2);
     CHECK(logSpectralDistance(a, b, 48000) < 0.1);
 }
+
+TEST_CASE("the reach bound holds and an obstacle beyond it is modelled as no obstacle")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    scene.simulation.durationSeconds = 0.3;
+    // The bound: the free string (reference) never goes beyond reachAt / 1.25 at 40 points.
+    {
+        auto free = scene;
+        free.obstacles.clear();
+        const double L = free.string.lengthMetres;
+        const int M = 1001;
+        ModalSolverConfig c =
+            stringSolverConfig(free.string, {}, M, 2e6, free.pickup.position, PickupQuantity::displacement);
+        ModalSolver solver(c);
+        solver.setInitialDisplacement(pluckModalShape(L, M, free.excitation.position, free.excitation.amplitude));
+        std::vector<double> shapes(size_t(40) * M);
+        std::vector<double> bound(40), worst(40, 0.0), u(40);
+        for (int k = 0; k < 40; ++k)
+        {
+            const double x = L * (k + 0.5) / 40.0;
+            bound[size_t(k)] = reachAt(free, x) / 1.25;
+            for (int p = 1; p <= M; ++p)
+                shapes[size_t(k) * M + p - 1] = modeShape(L, p, x);
+        }
+        double tightest = 0.0;
+        for (int n = 0; n < 20000; ++n)  // 10 ms: two periods
+        {
+            solver.step();
+            if (n % 10 != 0)
+                continue;
+            solver.displacementAt(shapes.data(), 40, u.data());
+            for (int k = 0; k < 40; ++k)
+                tightest = std::max(tightest, std::abs(u[size_t(k)]) / bound[size_t(k)]);
+        }
+        INFO("largest |u(x)| / energy bound " << tightest);
+        CHECK(tightest <= 1.0);
+        CHECK(tightest > 0.9);  // and it is nearly reached (the bound is not loose)
+    }
+    // The centre obstacle 5 mm down (reach there 1.875 mm): the automatic choice drops it and runs
+    // the free string at the host rate; the render matches the reference, which never touches.
+    scene.obstacles[0].height = -5e-3;
+    scene.simulation.method = Method::realtime;
+    scene.simulation.modes.reset();
+    scene.simulation.rateHz.reset();
+    CHECK_FALSE(obstacleReachable(scene, scene.obstacles[0]));
+    const auto q = automaticQuality(scene);
+    CHECK(q.oversampling == 1);
+    const auto voice = renderScene(scene);
+    auto reference = scene;
+    reference.simulation.method = Method::reference;
+    const auto ref = renderScene(reference);
+    CHECK(ref.stats.maxPenetrationMetres <= 0.0);  // any touch would make it positive
+    const auto a = lowpass(voice.output, 48000, 20000), b = lowpass(ref.output, 48000, 20000);
+    INFO("LSD " << logSpectralDistance(a, b, 48000, 0.3) << " dB, voice " << 0.3 / voice.stats.cpuSeconds
+                << "x real time");
+    CHECK(logSpectralDistance(a, b, 48000, 0.3) < 0.1);
+    // Just within reach (1.4 mm down, the string's own 1.5 mm excursion touches it): kept.
+    scene.obstacles[0].height = -1.4e-3;
+    CHECK(obstacleReachable(scene, scene.obstacles[0]));
+    CHECK(automaticQuality(scene).oversampling > 1);
+}
+
+TEST_CASE("contact points beyond the string's reach are left out of the voice and change nothing")
+{
+    // A long parabolic bridge under the middle of the string: only its crest can be reached.
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = 0.501;
+    bridge.width = 0.2;
+    bridge.height = -1.0e-3;
+    bridge.curvature = 0.5;  // 2.5 mm lower at its ends
+    bridge.law = {1e11, 1.5};
+    scene.obstacles = {bridge};
+    scene.simulation.method = Method::realtime;
+    VoiceConfig all;
+    all.string = scene.string;
+    all.obstacles = scene.obstacles;
+    all.excitationPosition = scene.excitation.position;
+    all.pickupPosition = scene.pickup.position;
+    all.modes = 190;
+    all.oversampling = 8;
+    VoiceConfig pruned = all;
+    pruned.reach = [scene](double x) { return reachAt(scene, x); };
+    Voice a(all), b(pruned);
+    for (Voice* v : {&a, &b})
+        v->setInitialShape(scene.excitation.position, scene.excitation.amplitude);
+    std::vector<double> ya(9600), yb(9600);
+    a.process(ya.data(), 9600);
+    b.process(yb.data(), 9600);
+    double peak = 0.0, diff = 0.0;
+    for (size_t n = 0; n < ya.size(); ++n)
+    {
+        peak = std::max(peak, std::abs(ya[n]));
+        diff = std::max(diff, std::abs(ya[n] - yb[n]));
+    }
+    INFO("contact points " << a.contactPoints() << " -> " << b.contactPoints() << ", difference " << diff / peak
+                           << " of the peak");
+    CHECK(b.contactPoints() < a.contactPoints());
+    CHECK(b.contactPoints() > 0);
+    CHECK(diff / peak < 1e-9);
+}
