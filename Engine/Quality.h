@@ -49,9 +49,18 @@ double reachAt(const Scene& scene, double x);
 // others can gain energy); any other method counts every obstacle as reachable.
 bool obstacleReachable(const Scene& scene, const Obstacle& obstacle);
 
+// The time constant of an impact on the obstacle (s): the string meets it as a dashpot of
+// impedance Z = 2 sqrt(T mu) at about the pluck's kink speed v = c A / min(x_e, L - x_e); the
+// obstacle's force w K d^alpha balances Z v at the depth d, where its stiffness is
+// k = w K alpha d^(alpha-1), and the contact relaxes over Z / k. The paper's obstacle: ~10 ns (no
+// rate resolves it); K = 1e7, alpha = 1: 92 us.
+double contactTimeConstant(const Scene& scene, const Obstacle& obstacle);
+
 // The automatic choice: the scene's own modes/rate where given; else, when no obstacle can be
 // reached (none, or all beyond the string's reach), the modes below 20 kHz at the host rate (no
-// contact, nothing to oversample), and the standard setting otherwise.
+// contact, nothing to oversample); otherwise the standard setting's modes, at the standard rate or
+// lower when the contact is soft enough: 16 steps per contact time constant and at least 2.5 x the
+// highest kept mode.
 VoiceQuality automaticQuality(const Scene& scene);
 
 }  // namespace jawari

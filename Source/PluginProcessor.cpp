@@ -312,9 +312,18 @@ void JawariAudioProcessor::setStateInformation(const void* data, int sizeInBytes
 {
     // Anything that is not a Jawari state (empty, truncated, random) is ignored: the current
     // settings stay, nothing crashes. A Jawari state of any version is read field by field.
-    if (data == nullptr || sizeInBytes <= 0)
+    // JUCE's binary XML is a magic number, a length and that many bytes of UTF-8. The text is
+    // checked here before JUCE parses it: its UTF-8 iterator trusts lead bytes and reads past the
+    // end of a string whose last sequence is cut short (found by tools/fuzz.sh under ASan).
+    if (data == nullptr || sizeInBytes <= 8)
         return;
-    const auto xml = getXmlFromBinary(data, sizeInBytes);
+    const auto* bytes = static_cast<const char*>(data);
+    if (juce::ByteOrder::littleEndianInt(bytes) != 0x21324356u)
+        return;
+    const auto length = static_cast<juce::int64>(juce::ByteOrder::littleEndianInt(bytes + 4));
+    if (length <= 0 || length > sizeInBytes - 8 || !juce::CharPointer_UTF8::isValidString(bytes + 8, int(length)))
+        return;
+    const auto xml = juce::parseXML(juce::String::fromUTF8(bytes + 8, int(length)));
     if (xml == nullptr || !xml->hasTagName("JawariState"))
         return;
     setState(juce::ValueTree::fromXml(*xml));

@@ -292,6 +292,16 @@ TEST_CASE("setStateInformation survives empty, truncated, random and older-versi
         }
         p.setStateInformation(blob.data(), int(blob.size()));
     }
+    // What libFuzzer found under ASan: a header, then UTF-8 lead bytes with no continuation (JUCE's
+    // parser read past the end of it). Kept as a regression file; and the same shape built here.
+    {
+        juce::MemoryBlock crash;
+        REQUIRE(juce::File(JAWARI_TESTS_DIR "/Fuzz/regressions/state-invalid-utf8.bin").loadFileAsData(crash));
+        p.setStateInformation(crash.getData(), int(crash.getSize()));
+        std::vector<char> cut = {'V', 'C', '2', '!', 6, 0, 0, 0, '<', 'a', '>', char(0xeb), char(0xeb), char(0xeb)};
+        p.setStateInformation(cut.data(), int(cut.size()));
+        CHECK(parameterValue(p, ids::gain) == Approx(-6.0f));
+    }
     // Mangled values inside a real state: NaN, infinities, text, out of range, unknown ids.
     for (const char* bad : {"nan", "inf", "-inf", "1e400", "banana", "", "-1e30", "1e30"})
     {

@@ -366,3 +366,29 @@ TEST_CASE("contact points beyond the string's reach are left out of the voice an
     CHECK(b.contactPoints() > 0);
     CHECK(diff / peak < 1e-9);
 }
+
+TEST_CASE("a soft obstacle gets a lower automatic rate and stays within the standard bound")
+{
+    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    scene.obstacles[0].law = {1e7, 1.0};  // soft: a contact time constant of about 92 us
+    scene.simulation.method = Method::realtime;
+    scene.simulation.modes.reset();
+    scene.simulation.rateHz.reset();
+    const double tau = contactTimeConstant(scene, scene.obstacles[0]);
+    const auto q = automaticQuality(scene);
+    const auto voice = renderScene(scene);
+    auto reference = scene;
+    reference.simulation.method = Method::reference;
+    const auto ref = renderScene(reference);
+    const double lsd = logSpectralDistance(voice.output, ref.output, 48000);
+    INFO("tau " << tau * 1e6 << " us, oversampling " << q.oversampling << ", LSD " << lsd << " dB, "
+                << 1.0 / voice.stats.cpuSeconds << "x real time");
+    CHECK(tau == Approx(92e-6).epsilon(0.05));
+    CHECK(q.oversampling < 8);  // the standard setting's 384 kHz is 8x
+    CHECK(q.oversampling >= 2);
+    CHECK(lsd < 2.0);
+    // The paper's stiff obstacle keeps the standard rate.
+    scene.obstacles[0].law = {1e13, 1.3};
+    CHECK(contactTimeConstant(scene, scene.obstacles[0]) < 1e-7);
+    CHECK(automaticQuality(scene).oversampling == 8);
+}

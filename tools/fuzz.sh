@@ -23,7 +23,8 @@ if [ "$which" = scene ] || [ "$which" = all ]; then
     clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
         -IEngine Tests/Fuzz/SceneParserFuzzer.cpp Engine/Scene.cpp Engine/Obstacle.cpp Engine/StringModel.cpp \
         -o build-fuzz/scene-parser-fuzzer
-    ./build-fuzz/scene-parser-fuzzer -max_total_time="$seconds" -max_len=4096 build-fuzz/corpus
+    ./build-fuzz/scene-parser-fuzzer -max_total_time="$seconds" -max_len=4096 -artifact_prefix=build-fuzz/ \
+        build-fuzz/corpus
 fi
 if [ "$which" = state ] || [ "$which" = all ]; then
     # UBSan without its alignment check: clang 14 crashes on the engine's `omp simd` kernels with it.
@@ -36,5 +37,6 @@ if [ "$which" = state ] || [ "$which" = all ]; then
     mkdir -p build-fuzz/state-corpus
     JAWARI_STATE_SEED=build-fuzz/state-corpus/valid-state.bin \
         ./build-fuzz/plugin/Tests/jawari-state-fuzzer -max_total_time="$seconds" -max_len=8192 \
-        build-fuzz/state-corpus
+        -artifact_prefix=build-fuzz/ build-fuzz/state-corpus Tests/Fuzz/regressions
+    # (new inputs go to the first folder; the regressions are read only)
 fi
