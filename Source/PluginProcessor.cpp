@@ -4,6 +4,8 @@
 #include "Presets.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 namespace jawari::plugin
 {
@@ -262,6 +264,23 @@ juce::ValueTree JawariAudioProcessor::state() const
     return tree;
 }
 
+namespace
+{
+// A state value as a number, or NaN. Text is read with strtod, not JUCE's reader, which overflows a
+// signed int on long exponents (undefined behaviour; found by tools/fuzz.sh under UBSan).
+double numberIn(const juce::var& v)
+{
+    if (v.isDouble() || v.isInt() || v.isInt64() || v.isBool())
+        return static_cast<double>(v);
+    const std::string text = v.toString().trim().toStdString();
+    if (text.empty() || text.size() > 64 || text.find_first_not_of("0123456789+-.eE") != std::string::npos)
+        return std::nan("");
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    return end == text.c_str() + text.size() ? value : std::nan("");
+}
+}  // namespace
+
 void JawariAudioProcessor::setState(const juce::ValueTree& tree)
 {
     // Version 1 (0.1) had no damping curve; version 2 adds it. Anything else a state lacks, or
@@ -276,11 +295,7 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
         const auto param = params.getChildWithProperty("id", ranged->getParameterID());
         if (param.isValid())
         {
-            const juce::var v = param.getProperty("value");
-            const juce::String text = v.toString().trim();
-            const bool numeric = (v.isDouble() || v.isInt() || v.isInt64())
-                                 || (text.isNotEmpty() && text.containsOnly("0123456789+-.eE"));
-            const double value = numeric ? static_cast<double>(v) : std::nan("");
+            const double value = numberIn(param.getProperty("value"));
             const auto& range = ranged->getNormalisableRange();
             if (std::isfinite(value) && value >= range.start && value <= range.end)
                 normalised = ranged->convertTo0to1(static_cast<float>(value));
@@ -290,16 +305,12 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
     const auto curve = tree.getChildWithName("DampingCurve");
     for (int i = 0; i < kDampingCurvePoints; ++i)
     {
-        const juce::var v = curve.getProperty("p" + juce::String(i), 1.0);
-        const double value = v.isDouble() || v.isInt() || v.isInt64() ? static_cast<double>(v)
-                             : v.toString().containsOnly("0123456789+-.eE") && v.toString().isNotEmpty()
-                                 ? v.toString().getDoubleValue()
-                                 : 1.0;
+        const double value = numberIn(curve.getProperty("p" + juce::String(i), 1.0));
         const bool valid = std::isfinite(value) && value >= 0.125 && value <= 8.0;
         setDampingCurvePoint(i, valid ? static_cast<float>(value) : 1.0f);
     }
-    const int program = static_cast<int>(tree.getProperty("program", 0));
-    currentProgram_ = program >= 0 && program < getNumPrograms() ? program : 0;
+    const double program = numberIn(tree.getProperty("program", 0));
+    currentProgram_ = program >= 0.0 && program < getNumPrograms() ? static_cast<int>(program) : 0;
 }
 
 void JawariAudioProcessor::getStateInformation(juce::MemoryBlock& destData)

@@ -298,6 +298,13 @@ TEST_CASE("setStateInformation survives empty, truncated, random and older-versi
         juce::MemoryBlock crash;
         REQUIRE(juce::File(JAWARI_TESTS_DIR "/Fuzz/regressions/state-invalid-utf8.bin").loadFileAsData(crash));
         p.setStateInformation(crash.getData(), int(crash.getSize()));
+        // And a value with an exponent too long for JUCE's number reader (signed overflow in it).
+        juce::MemoryBlock longExponent;
+        REQUIRE(juce::File(JAWARI_TESTS_DIR "/Fuzz/regressions/state-long-exponent.bin").loadFileAsData(longExponent));
+        juce::MemoryBlock keep;
+        p.getStateInformation(keep);
+        p.setStateInformation(longExponent.getData(), int(longExponent.getSize()));
+        p.setStateInformation(keep.getData(), int(keep.getSize()));
         std::vector<char> cut = {'V', 'C', '2', '!', 6, 0, 0, 0, '<', 'a', '>', char(0xeb), char(0xeb), char(0xeb)};
         p.setStateInformation(cut.data(), int(cut.size()));
         CHECK(parameterValue(p, ids::gain) == Approx(-6.0f));
