@@ -36,7 +36,7 @@ if [ "$which" = state ] || [ "$which" = all ]; then
     cmake --build build-fuzz/plugin -j "$(nproc)" --target jawari-state-fuzzer
     mkdir -p build-fuzz/state-corpus
     JAWARI_STATE_SEED=build-fuzz/state-corpus/valid-state.bin \
-        ./build-fuzz/plugin/Tests/jawari-state-fuzzer -max_total_time="$seconds" -max_len=8192 \
+        ./build-fuzz/plugin/Tests/jawari-state-fuzzer -max_total_time="$seconds" -max_len=8192 -timeout=5 \
         -artifact_prefix=build-fuzz/ build-fuzz/state-corpus Tests/Fuzz/regressions
     # (new inputs go to the first folder; the regressions are read only)
 fi
