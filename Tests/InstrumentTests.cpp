@@ -73,17 +73,9 @@ TEST_CASE("A retuned voice equals a voice built for the scaled string", "[instru
     retuned.retune(r, built.solver().sigma().data());
     for (Voice* v : {&built, &retuned})
         v->setInitialShape(0.3, 1.5e-3);
-    std::vector<double> ya(4800), yb(4800);
-    retuned.process(ya.data(), 4800);
-    built.process(yb.data(), 4800);
-    double peak = 0.0, worst = 0.0;
-    for (size_t n = 0; n < ya.size(); ++n)
-    {
-        peak = std::max(peak, std::abs(yb[n]));
-        worst = std::max(worst, std::abs(ya[n] - yb[n]));
-    }
-    INFO("difference " << worst / peak << " of the peak");
-    CHECK(worst / peak < 1e-9);
+    const double difference = test::relativeMaxDifference(retuned, built, 4800);
+    INFO("difference " << difference << " of the peak");
+    CHECK(difference < 1e-9);
 }
 
 TEST_CASE("Notes play in tune and pitch bend moves them", "[instrument]")

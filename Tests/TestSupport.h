@@ -3,7 +3,10 @@
 
 #include "ModalSolver.h"
 #include "Scene.h"
+#include "Voice.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -50,6 +53,21 @@ inline Obstacle pointObstacle(double position, double height = 0.0, double width
     o.width = width;
     o.law = {K, alpha};
     return o;
+}
+
+// Renders `samples` host samples from both voices: max |y - reference| over the peak of reference.
+inline double relativeMaxDifference(Voice& voice, Voice& reference, int samples)
+{
+    std::vector<double> y(static_cast<size_t>(samples)), r(static_cast<size_t>(samples));
+    voice.process(y.data(), samples);
+    reference.process(r.data(), samples);
+    double peak = 0.0, worst = 0.0;
+    for (size_t n = 0; n < y.size(); ++n)
+    {
+        peak = std::max(peak, std::abs(r[n]));
+        worst = std::max(worst, std::abs(y[n] - r[n]));
+    }
+    return worst / peak;
 }
 
 }  // namespace jawari::test

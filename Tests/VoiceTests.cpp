@@ -351,20 +351,12 @@ TEST_CASE("contact points beyond the string's reach are left out of the voice an
     Voice a(all), b(pruned);
     for (Voice* v : {&a, &b})
         v->setInitialShape(scene.excitation.position, scene.excitation.amplitude);
-    std::vector<double> ya(9600), yb(9600);
-    a.process(ya.data(), 9600);
-    b.process(yb.data(), 9600);
-    double peak = 0.0, diff = 0.0;
-    for (size_t n = 0; n < ya.size(); ++n)
-    {
-        peak = std::max(peak, std::abs(ya[n]));
-        diff = std::max(diff, std::abs(ya[n] - yb[n]));
-    }
-    INFO("contact points " << a.contactPoints() << " -> " << b.contactPoints() << ", difference " << diff / peak
+    const double difference = test::relativeMaxDifference(b, a, 9600);
+    INFO("contact points " << a.contactPoints() << " -> " << b.contactPoints() << ", difference " << difference
                            << " of the peak");
     CHECK(b.contactPoints() < a.contactPoints());
     CHECK(b.contactPoints() > 0);
-    CHECK(diff / peak < 1e-9);
+    CHECK(difference < 1e-9);
 }
 
 TEST_CASE("a soft obstacle gets a lower automatic rate and stays within the standard bound")
