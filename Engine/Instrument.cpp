@@ -183,7 +183,7 @@ void Instrument::install(VoicePack* pack, VoicePack* previous)
         }
         retune(i);
     }
-    applyContact(true);
+    applyContact();
 }
 
 double Instrument::noteRatio(double note) const
@@ -218,9 +218,8 @@ void Instrument::retune(int slot)
     voice.retune(r, sigma);
 }
 
-void Instrument::applyContact(bool force)
+void Instrument::applyContact()
 {
-    static_cast<void>(force);
     if (pack_ == nullptr)
         return;
     const ContactLaw law{std::max(current_.stiffness, 0.0), std::max(current_.exponent, 1.0)};
@@ -461,7 +460,7 @@ void Instrument::render(float* left, float* right, int numSamples)
             current_.obstacleHeight = approach(current_.obstacleHeight, heightTarget, 1e-9);
             current_.stiffness = std::exp(approach(logK, logKTarget, 1e-6));
             current_.exponent = approach(current_.exponent, exponentTarget, 1e-6);
-            applyContact(false);
+            applyContact();
         }
         if (target_.decayScale != current_.decayScale || target_.airScale != current_.airScale
             || target_.deltaVe != current_.deltaVe || target_.qTeInv != current_.qTeInv

@@ -218,7 +218,7 @@ private:
     void start(int slot, int note, double velocity);
     void retune(int slot);
     double noteRatio(double note) const;
-    void applyContact(bool force);
+    void applyContact();
     void dronePluck(int string);
     void scheduleDrone(int samples);
     void publishSnapshot();
