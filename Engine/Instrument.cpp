@@ -439,6 +439,7 @@ void Instrument::render(float* left, float* right, int numSamples)
         return;
     const double rate = pack_->structure.hostRateHz;
     const double outputScale = pack_->outputScale;
+    const int fadeLength = std::max(1, static_cast<int>(std::lround(kFadeSeconds * rate)));
     for (int offset = 0; offset < numSamples; offset += kChunk)
     {
         const int count = std::min(kChunk, numSamples - offset);
@@ -527,7 +528,6 @@ void Instrument::render(float* left, float* right, int numSamples)
                 double g = gainStart + (gain_ - gainStart) * (n + 1) / count;
                 if (s.fade >= 0)
                 {
-                    const int fadeLength = std::max(1, static_cast<int>(std::lround(kFadeSeconds * rate)));
                     g *= double(s.fade) / fadeLength;
                     if (s.fade > 0)
                         --s.fade;

@@ -326,8 +326,7 @@ void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplac
     std::vector<double> previous(M_, 0.0);
     for (int p = 0; p < M_; ++p)
     {
-        const double back = sigma_[p] * dt_ <= 0.5 ? -dt_ : dt_;
-        previous[p] = freeDampedMotion(modalDisplacement[p], 0.0, omega_[p], sigma_[p], back);
+        previous[p] = previousAtRest(p, modalDisplacement[p]);
     }
     setState(modalDisplacement, previous);
 }
@@ -456,6 +455,12 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
     }
 }
 
+double ModalSolver::previousAtRest(int p, double q0) const
+{
+    const double back = sigma_[p] * dt_ <= 0.5 ? -dt_ : dt_;  // see setInitialDisplacement()
+    return freeDampedMotion(q0, 0.0, omega_[p], sigma_[p], back);
+}
+
 void ModalSolver::startFrom(const double* modalDisplacement)
 {
     layout_ = Layout::single;
@@ -463,9 +468,8 @@ void ModalSolver::startFrom(const double* modalDisplacement)
     for (int i = 0; i < Ma_; ++i)
     {
         const int p = active_[i];
-        const double back = sigma_[p] * dt_ <= 0.5 ? -dt_ : dt_;  // as setInitialDisplacement()
         q_[i] = modalDisplacement[p];
-        qPrev_[i] = freeDampedMotion(modalDisplacement[p], 0.0, omega_[p], sigma_[p], back);
+        qPrev_[i] = previousAtRest(p, modalDisplacement[p]);
     }
     restartFromModes();
 }

@@ -168,6 +168,7 @@ private:
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     void compact(const std::vector<double>& current, const std::vector<double>& previous);
     void fillActiveTables();  // RT: the active modes' coefficients, pickup weights and pairing sums
+    double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void restartFromModes();  // RT: the state derived from q_, qPrev_ (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
 
