@@ -65,7 +65,67 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double sAlpha, double r)
     return out;
 }
 
-ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k, const double* guess)
+DividedSeries dividedSeries(double alpha)
+{
+    DividedSeries series;
+    series.exponent = alpha;
+    const double beta = alpha + 1.0;
+    double c = beta;  // binomial(beta, 1)
+    for (int k = 0; k < DividedSeries::kTerms; ++k)
+    {
+        series.c[k] = c;
+        c *= (beta - (k + 1.0)) / (k + 2.0);  // binomial(beta, k + 2)
+    }
+    return series;
+}
+
+namespace
+{
+
+struct Divided
+{
+    double D = 0.0;    // (p^beta - [s]_+^beta) / (p - s)
+    double dD = 0.0;   // dD/dp
+    double d2D = 0.0;  // d2D/dp2
+};
+
+// D and its derivatives at p = s - r > 0, with sAlpha = [s]_+^alpha and invS = 1/s. Near s, D is
+// a function of e = -r/s, so r keeps its full relative precision even where it is far smaller
+// than s.
+Divided divided(const DividedSeries& series, double alpha, double s, double invS, double sAlpha, double r)
+{
+    if (s > 0.0)
+    {
+        const double e = -r * invS;
+        if (std::abs(e) <= DividedSeries::kReach)
+        {
+            constexpr int n = DividedSeries::kTerms;
+            const double* c = series.c;
+            double v = c[n - 1], dv = (n - 1) * c[n - 1], d2v = (n - 1) * (n - 2) * c[n - 1];
+            for (int k = n - 2; k >= 2; --k)
+            {
+                v = v * e + c[k];
+                dv = dv * e + k * c[k];
+                d2v = d2v * e + k * (k - 1) * c[k];
+            }
+            v = (v * e + c[1]) * e + c[0];
+            dv = dv * e + c[1];
+            const double scale = sAlpha * invS;
+            return {sAlpha * v, scale * dv, scale * invS * d2v};
+        }
+    }
+    // Away from s (or with s <= 0) nothing cancels: p^beta - s^beta loses at most a few ulps.
+    const double p = s - r, h = p - s;
+    const double pAlpha = std::pow(p, alpha);
+    const double D = (pAlpha * p - sAlpha * std::max(s, 0.0)) / h;
+    const double dD = ((alpha + 1.0) * pAlpha - D) / h;
+    return {D, dD, ((alpha + 1.0) * alpha * pAlpha / p - 2.0 * dD) / h};
+}
+
+}  // namespace
+
+ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
+                                         const DividedSeries* series)
 {
     ScalarContactSolution sol;
     if (s <= 0.0 && s - b <= 0.0)
@@ -74,8 +134,6 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         sol.r = b;
         return sol;
     }
-    constexpr double eps = std::numeric_limits<double>::epsilon();
-    constexpr int maxIterations = 200;
     const double K = law.stiffness;
     const double alpha = law.exponent;
     const double beta = alpha + 1.0;
@@ -95,155 +153,102 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         return sol;
     }
 
-    // In contact at n+1: the root r lies in [b, s), i.e. the penetration p = s - r in (0, d].
-    // With D(p) = (p^beta - [s]_+^beta) / (p - s) (the divided difference: G = -(K/beta) D),
-    // phi = 0 reads c D(p) = d - p. In z = log p,
-    //   F(z) = log(c D(p)) - log(d - p)
-    // is strictly increasing, runs from below 0 (p -> 0, since d > c s^alpha) to +inf (p -> d)
-    // and is close to linear (D ~ p^alpha), so Newton in z converges in a few steps where Newton in
-    // r creeps up a concave curve. D and D' are formed without cancellation near p = s.
-    struct Divided
+    DividedSeries local;
+    if (series == nullptr || series->exponent != alpha)
     {
-        double D, dD;
-    };
-    auto divided = [&](double p, double z) -> Divided {
-        if (s <= 0.0)
-        {
-            const double pBeta = std::exp(beta * z);
-            const double D = pBeta / (p - s);
-            return {D, (beta * pBeta / p - D) / (p - s)};
-        }
-        const double e = (p - s) / s;
-        if (std::abs(e) >= 0.5)
-        {
-            // Far from s nothing cancels in p^beta - s^beta (relative error below 3 eps): one exp.
-            const double pBeta = std::exp(beta * z);
-            const double D = (pBeta - sAlpha * s) / (p - s);
-            return {D, (beta * pBeta / p - D) / (p - s)};
-        }
-        if (std::abs(e) < 1e-3)
-            return {beta * sAlpha * (1.0 + (beta - 1.0) / 2.0 * e + (beta - 1.0) * (beta - 2.0) / 6.0 * e * e),
-                    beta * sAlpha / s * ((beta - 1.0) / 2.0 + (beta - 1.0) * (beta - 2.0) / 3.0 * e)};
-        const double E = std::expm1(beta * std::log1p(e));  // (p/s)^beta - 1
-        const double D = sAlpha * s * E / (p - s);
-        return {D, (beta * sAlpha * (1.0 + E) / (1.0 + e) - D) / (p - s)};
-    };
-
-    // Fast path: at a high rate the previous steps' extrapolated r is close to the root, where
-    // Newton in r converges quadratically. Up to three steps inside [b, s); otherwise on below.
-    if (guess != nullptr && *guess > b && *guess < s)
-    {
-        double r = *guess;
-        double lo = b, hi = s;
-        for (int it = 1; it <= 3; ++it)
-        {
-            const ChordSlope G = chordSlope(law, s, sAlpha, r);
-            const double phi = r + k * G.value - b;
-            const double scale = std::abs(r) + std::abs(b);
-            sol.iterations = it;
-            if (std::abs(phi) <= 2.0 * eps * (scale + std::abs(k * G.value))
-                || std::abs(phi) <= 2.0 * eps * scale * (1.0 + k * G.derivative))
-            {
-                sol.r = r;
-                sol.slope = G.value;
-                return sol;
-            }
-            (phi < 0.0 ? lo : hi) = r;
-            const double next = r - phi / (1.0 + k * G.derivative);
-            // Only worth pursuing when the guess was already close (quadratic convergence from
-            // there); at audio-like rates it often is not, and the log-penetration Newton below is
-            // then the quicker way.
-            if (!(next > lo && next < hi) || (it == 1 && std::abs(next - r) > 1e-3 * scale))
-                break;
-            r = next;
-        }
+        local = dividedSeries(alpha);
+        series = &local;
     }
-
-    // One evaluation at p = d/2 says which half holds the root (phi = (d - p) - c D(p)).
-    const double pMid = 0.5 * d;
-    const Divided atMid = divided(pMid, std::log(pMid));
-    if (c * atMid.D < d - pMid)
+    // In contact at n+1: the penetration p = s - r is in (0, d]. The iterate is held as r, which
+    // keeps its relative precision when it is far smaller than s. Every start below is at or right
+    // of the root (p >= root) except the quadratic model's, and from the right Halley's and
+    // Newton's steps on the increasing convex Phi descend to the root without passing it.
+    double p = d;
+    if (s > 0.0)
     {
-        // Soft: the root is in p in (d/2, d), r in (b, b + d/2), where phi is nearly linear in r:
-        // Newton in r, kept inside that bracket by bisection.
-        double lo = b, hi = s - pMid;  // phi(lo) <= 0 < phi(hi)
-        double r = guess != nullptr && *guess > lo && *guess < hi ? *guess : 0.5 * (lo + hi);
-        ChordSlope G = chordSlope(law, s, sAlpha, r);
-        for (int it = 1; it <= maxIterations; ++it)
+        // The root of Phi's quadratic model about s in e = (p - s)/s, A2 e^2 + A1 e + A0 = 0
+        // (A1 > 0): the root nearest e = 0, in a form free of cancellation, with an error O(e^3).
+        const double cs = c * sAlpha;
+        const double A2 = cs * series->c[2], A1 = cs * series->c[1] + s, A0 = cs * series->c[0] + b;
+        const double disc = A1 * A1 - 4.0 * A2 * A0;
+        const double e = disc >= 0.0 ? -2.0 * A0 / (A1 + std::sqrt(disc)) : -A0 / A1;
+        const double model = s * (1.0 + e);
+        if (A0 > 0.0)  // Phi(s) > 0
         {
-            sol.iterations = it;
-            const double phi = r + k * G.value - b;
-            const double scale = std::abs(r) + std::abs(b) + std::abs(k * G.value);
-            if (std::abs(phi) <= 2.0 * eps * scale)
-                break;
-            if (phi < 0.0)
-                lo = r;
-            else
-                hi = r;
-            double next = r - phi / (1.0 + k * G.derivative);
-            if (!(next > lo && next < hi))
-                next = 0.5 * (lo + hi);
-            if (std::abs(next - r) <= eps * scale || hi - lo <= 2.0 * eps * scale)
-            {
-                r = next;
-                G = chordSlope(law, s, sAlpha, r);
-                break;
-            }
-            r = next;
-            G = chordSlope(law, s, sAlpha, r);
+            // The root is in (0, s). Right of it: the tangent at s, and the root of the linear
+            // bound D >= s^alpha (1 + p/s) (alpha >= 1). The nearest of those and the model.
+            const double tangent = s - A0 / (c * beta * alpha / 2.0 * sAlpha / s + 1.0);
+            const double linear = (d - cs) / (cs / s + 1.0);
+            p = tangent > 0.0 ? std::min(tangent, linear) : linear;
+            if (model > 0.0 && e > -0.5)
+                p = std::min(p, model);
         }
-        sol.r = r;
-        sol.slope = G.value;
-        return sol;
+        else
+            // The root is in [s, d]: the model where it stays within a factor 2 of s, else the bound
+            // D >= p^alpha (c p^alpha = d is right of the root).
+            p = e <= 1.0 ? model : std::min(d, std::pow(d / c, 1.0 / alpha));
     }
-
-    // Stiff: the root is in p in (0, d/2]. Newton in z = log p, started from the warm guess when
-    // it is in range, else from the balance c p^alpha = d.
-    double p = 0.0;
-    if (guess != nullptr && s - *guess > 0.0 && s - *guess <= pMid)
-        p = s - *guess;
     else
-        p = std::min(pMid, std::pow(d / c, 1.0 / alpha));
-    if (!(p > 0.0))
-        p = pMid;
-    double zLow = -std::numeric_limits<double>::infinity();  // F < 0 there
-    double pHigh = pMid;                                     // F >= 0 there
-    double z = std::log(p);
-    Divided dv = p == pMid ? atMid : divided(p, z);
+        // A new contact: D = p^beta / (p - s) >= p^beta / (d - s), so c p^beta = d (d - s) is right
+        // of the root.
+        p = std::pow(d * (d - s) / c, 1.0 / beta);
+    if (!(p > 0.0 && p <= d))
+        p = d;
+    double r = std::max(s - p, b);
+    const double invS = s > 0.0 ? 1.0 / s : 0.0;
+
+    constexpr int maxIterations = 100;
+    Divided v = divided(*series, alpha, s, invS, sAlpha, r);
     for (int it = 1; it <= maxIterations; ++it)
     {
         sol.iterations = it;
-        const double logForce = std::log(c * dv.D), logGap = std::log(d - p);
-        const double F = logForce - logGap;
-        // F is known to about eps (|log c D| + |log (d - p)|): below that, p is the root to rounding.
-        if (std::abs(F) <= 4.0 * eps * (1.0 + std::abs(logForce) + std::abs(logGap)))
-            break;
-        if (F < 0.0)
-            zLow = z;
-        else if (F > 0.0)
-            pHigh = p;
-        else
-            break;
-        const double dF = p * dv.dD / dv.D + p / (d - p);
-        const double step = F / dF;
-        if (std::abs(step) <= 4.0 * eps)
-            break;  // p is the root to rounding (and D belongs to this p)
-        double zNext = z - step;
-        double pNext = std::exp(zNext);
-        if (!(zNext > zLow) || !(pNext < pHigh) || !std::isfinite(zNext))
+        p = s - r;
+        const double force = c * v.D, gap = r - b;  // Phi = force - gap
+        const double phi = force - gap, dPhi = c * v.dD + 1.0;
+        double step = 0.0;  // in p
+        if (gap > 4.0 * force || (force > 4.0 * gap && gap > 0.01 * p))
         {
-            // Newton left the bracket: halve the side it left through.
-            pNext = F < 0.0 ? 0.5 * (p + pHigh) : 0.5 * (p + std::exp(zLow));
-            zNext = std::log(pNext);
+            // Far from the root, where steps in p creep along the curved D: Newton in z = log p on
+            // F(z) = log(c D) - log(d - p), which is nearly linear in z (D ~ p^alpha) away from
+            // p = d (where the Halley step below serves).
+            const double F = std::log(force / gap);
+            const double dF = p * (v.dD / v.D + 1.0 / gap);
+            step = p * std::expm1(-F / dF);
         }
-        z = zNext;
-        p = pNext;
-        dv = divided(p, z);
-        if (pHigh - std::exp(zLow) <= 4.0 * eps * pHigh)
+        else
+        {
+            // Halley: cubic convergence, from the right of the root towards it.
+            const double invDPhi = 1.0 / dPhi;
+            const double newton = -phi * invDPhi;
+            step = newton / (1.0 + 0.5 * newton * c * v.d2D * invDPhi);
+            if (!(std::abs(step) <= 2.0 * std::abs(newton)))
+                step = newton;
+        }
+        double next = r - step;
+        bool clamped = false;
+        if (!(next >= b))
+        {
+            next = b;  // p <= d, which is right of the root
+            clamped = true;
+        }
+        else if (!(next < s))
+        {
+            next = 0.5 * (r + s);  // the root has p > 0: halve p towards it
+            clamped = true;
+        }
+        const double moved = next - r;
+        r = next;
+        if (!clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + force))
+        {
+            // Cubic convergence: r is the root to ~1e-18 of its scale. D at it from its Taylor
+            // series to the same order, without another evaluation.
+            v.D -= moved * (v.dD - 0.5 * moved * v.d2D);
             break;
+        }
+        v = divided(*series, alpha, s, invS, sAlpha, r);
     }
-    sol.r = s - p;
-    sol.slope = -K / beta * dv.D;
+    sol.r = r;
+    sol.slope = -K / beta * v.D;
     return sol;
 }
 

@@ -33,19 +33,37 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double r);
 // The same with sAlpha = [s]_+^alpha precomputed (it is fixed during a solve).
 ChordSlope chordSlope(const ContactLaw& law, double s, double sAlpha, double r);
 
+// The series of the divided difference D(p) = (p^beta - s^beta) / (p - s) about p = s:
+//   D = s^alpha sum_k c_k e^k,   e = (p - s) / s,   c_k = binomial(beta, k + 1),
+// used where |e| <= kReach: no pow and no cancellation there. It depends on alpha only, so it is
+// built once per law (ContactSystem keeps one per point), not per solve.
+struct DividedSeries
+{
+    static constexpr int kTerms = 16;
+    static constexpr double kReach = 0.125;  // |c_16| 0.125^16 < 1e-16 c_0 for alpha in [1, 4]
+    double exponent = -1.0;                  // the alpha it was built for
+    double c[kTerms] = {};
+};
+DividedSeries dividedSeries(double alpha);
+
 // Solves  r + k G(r) = b  (k > 0): the scalar contact equation of DESIGN.md section 2.
-// phi(r) = r + k G(r) - b is strictly increasing, phi(b) <= 0 and
-// phi(max(b, 0) + k K [s]_+^alpha) >= 0, so [b, that] brackets the root; Newton steps that
-// leave the bracket or stall are replaced by bisection, so it always converges.
+// Out of contact, or leaving it (the root has the string off the obstacle at n+1), the root is in
+// closed form. In contact at n+1 it is found in the penetration p = s - r in (0, d], d = s - b:
+//   Phi(p) = (k K / beta) D(p) + p - d = 0.
+// Phi is increasing and convex for alpha >= 1 (D is the mean of psi' between s and p, and the
+// third derivative of psi is >= 0), so Newton from the right of the root descends to it
+// monotonically and a step from the left lands right of it. Started from the root of Phi's
+// quadratic model about p = s (or from a power balance on a new contact) it takes about three
+// evaluations of D, each one pow (none near s, where the series serves).
 struct ScalarContactSolution
 {
     double r = 0.0;
     double slope = 0.0;  // G(r): the force per metre is -slope
-    int iterations = 0;  // Newton/bisection evaluations after the first
+    int iterations = 0;  // Newton steps
 };
-// `guess` (optional) starts the iteration when it lies inside the bracket: the previous step's r
-// is usually within a few ulps of the answer at a high rate.
+// `series` (optional) is dividedSeries(law.exponent), built once by the caller; without it, or if
+// it was built for another exponent, it is built here.
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
-                                         const double* guess = nullptr);
+                                         const DividedSeries* series = nullptr);
 
 }  // namespace jawari

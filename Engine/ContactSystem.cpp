@@ -10,6 +10,9 @@ namespace jawari
 void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::MatrixXd couplingA)
 {
     points_ = points;
+    series_.clear();
+    for (const auto& p : points_)
+        series_.push_back(dividedSeries(p.law.exponent));
     A_ = std::move(couplingA);
     const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
     diagonal_ = true;
@@ -31,10 +34,15 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(P);
     previousR_.assign(points_.size(), 0.0);
     olderR_.assign(points_.size(), 0.0);
-    oldestR_.assign(points_.size(), 0.0);
-    oldestContact_.assign(points_.size(), 0);
     previousContact_.assign(points_.size(), 0);
     olderContact_.assign(points_.size(), 0);
+}
+
+void ContactSystem::setLaw(int j, const ContactLaw& law)
+{
+    points_[size_t(j)].law = law;
+    if (series_[size_t(j)].exponent != law.exponent)
+        series_[size_t(j)] = dividedSeries(law.exponent);  // no allocation: a fixed-size table
 }
 
 void ContactSystem::setCoupling(const Eigen::MatrixXd& couplingA)
@@ -50,7 +58,6 @@ void ContactSystem::reset()
 {
     std::fill(previousContact_.begin(), previousContact_.end(), 0);
     std::fill(olderContact_.begin(), olderContact_.end(), 0);
-    std::fill(oldestContact_.begin(), oldestContact_.end(), 0);
 }
 
 double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
@@ -80,7 +87,7 @@ void ContactSystem::gaussSeidelSweep(const double* s, const double* b, Eigen::Ve
         for (Eigen::Index i = 0; i < P; ++i)
             if (i != j)
                 others += A_(j, i) * chordSlope(points_[i].law, s[i], r[i]).value;
-        r[j] = solveScalarContact(points_[j].law, s[j], b[j] - others, A_(j, j)).r;
+        r[j] = solveScalarContact(points_[j].law, s[j], b[j] - others, A_(j, j), &series_[size_t(j)]).r;
     }
 }
 
@@ -92,21 +99,9 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
         int most = 0;
         for (Eigen::Index j = 0; j < P; ++j)
         {
-            double guess = previousR_[j];
-            if (oldestContact_[j])
-                guess = 3.0 * (previousR_[j] - olderR_[j]) + oldestR_[j];
-            else if (olderContact_[j])
-                guess = 2.0 * previousR_[j] - olderR_[j];
-            const auto sol =
-                solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), previousContact_[j] ? &guess : nullptr);
+            const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), &series_[size_t(j)]);
             r[j] = sol.r;
             slope[j] = sol.slope;
-            oldestR_[j] = olderR_[j];
-            oldestContact_[j] = olderContact_[j];
-            olderR_[j] = previousR_[j];
-            olderContact_[j] = previousContact_[j];
-            previousR_[j] = sol.r;
-            previousContact_[j] = sol.slope != 0.0;
             most = std::max(most, sol.iterations);
         }
         return most;

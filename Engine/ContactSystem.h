@@ -29,7 +29,7 @@ public:
     void reset();
 
     // RT: a new law for point j (the obstacle's stiffness or exponent automated); no allocation.
-    void setLaw(int j, const ContactLaw& law) { points_[size_t(j)].law = law; }
+    void setLaw(int j, const ContactLaw& law);
     // RT: a new coupling matrix of the same size (the residual compliance rescaled by a retune).
     // The diagonal/coupled decision made by prepare() stands: a rescaled compliance keeps it.
     void setCoupling(const Eigen::MatrixXd& couplingA);
@@ -44,13 +44,14 @@ private:
     void gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r);
 
     std::vector<ContactPoint> points_;
+    std::vector<DividedSeries> series_;  // per point, for its law's exponent
     Eigen::MatrixXd A_;
     bool diagonal_ = true;
     Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;
     Eigen::MatrixXd J_;
-    // Warm start: the last three steps' r where the point was in contact, extrapolated.
-    std::vector<double> previousR_, olderR_, oldestR_;
-    std::vector<char> previousContact_, olderContact_, oldestContact_;
+    // Warm start of the coupled Newton: the last two steps' r where the point was in contact.
+    std::vector<double> previousR_, olderR_;
+    std::vector<char> previousContact_, olderContact_;
     Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
