@@ -125,7 +125,7 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
 }  // namespace
 
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
-                                         const DividedSeries* series)
+                                         const DividedSeries* series, const KnownPower* known)
 {
     ScalarContactSolution sol;
     if (s <= 0.0 && s - b <= 0.0)
@@ -139,7 +139,16 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     const double beta = alpha + 1.0;
     const double c = k * K / beta;
     const double d = s - b;
-    const double sAlpha = s > 0.0 ? std::pow(s, alpha) : 0.0;
+    double sAlpha = 0.0;
+    if (s > 0.0)
+    {
+        const double x = known != nullptr && known->xAlpha > 0.0 ? (s - known->x) / known->x : 1.0;
+        if (std::abs(x) <= 1e-6)
+            // (1 + x)^alpha to second order: the error ~ x^3 <= 1e-18.
+            sAlpha = known->xAlpha * (1.0 + x * alpha * (1.0 + 0.5 * x * (alpha - 1.0)));
+        else
+            sAlpha = std::pow(s, alpha);
+    }
     const double psiBefore = K / beta * sAlpha * std::max(s, 0.0);
     // At r = s the string just reaches the obstacle at n+1: phi(s) = s - k psi(s)/s - b = d - c s^alpha.
     if (d - c * sAlpha <= 0.0)
@@ -249,6 +258,9 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     }
     sol.r = r;
     sol.slope = -K / beta * v.D;
+    p = s - r;
+    if (p >= 0.5 * s && p > 0.0)
+        sol.penetrationPower = (sAlpha * std::max(s, 0.0) - v.D * r) / p;
     return sol;
 }
 

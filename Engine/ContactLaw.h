@@ -60,10 +60,20 @@ struct ScalarContactSolution
     double r = 0.0;
     double slope = 0.0;  // G(r): the force per metre is -slope
     int iterations = 0;  // Newton steps
+    // p^alpha at the root's penetration p = s - r, formed from D without a pow (p^beta = s^beta +
+    // D (p - s)); 0 when the string is off the obstacle at n+1 or p < s/2 (where that would cancel).
+    double penetrationPower = 0.0;
+};
+// A power x^alpha known at some x > 0 (an earlier solve's penetrationPower): the contact point's
+// s two steps later is that step's p to ~1e-12, so s^alpha follows from it without a pow.
+struct KnownPower
+{
+    double x = 0.0;
+    double xAlpha = 0.0;  // x^alpha, or 0 if unknown
 };
 // `series` (optional) is dividedSeries(law.exponent), built once by the caller; without it, or if
-// it was built for another exponent, it is built here.
+// it was built for another exponent, it is built here. `known` (optional): see KnownPower.
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
-                                         const DividedSeries* series = nullptr);
+                                         const DividedSeries* series = nullptr, const KnownPower* known = nullptr);
 
 }  // namespace jawari

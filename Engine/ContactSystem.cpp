@@ -11,6 +11,7 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
 {
     points_ = points;
     series_.clear();
+    known_.assign(points_.size(), {});
     for (const auto& p : points_)
         series_.push_back(dividedSeries(p.law.exponent));
     A_ = std::move(couplingA);
@@ -42,7 +43,10 @@ void ContactSystem::setLaw(int j, const ContactLaw& law)
 {
     points_[size_t(j)].law = law;
     if (series_[size_t(j)].exponent != law.exponent)
+    {
         series_[size_t(j)] = dividedSeries(law.exponent);  // no allocation: a fixed-size table
+        known_[size_t(j)] = {};                            // powers of the old exponent
+    }
 }
 
 void ContactSystem::setCoupling(const Eigen::MatrixXd& couplingA)
@@ -58,6 +62,7 @@ void ContactSystem::reset()
 {
     std::fill(previousContact_.begin(), previousContact_.end(), 0);
     std::fill(olderContact_.begin(), olderContact_.end(), 0);
+    std::fill(known_.begin(), known_.end(), std::array<KnownPower, 2>{});
 }
 
 double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
@@ -99,7 +104,10 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
         int most = 0;
         for (Eigen::Index j = 0; j < P; ++j)
         {
-            const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), &series_[size_t(j)]);
+            auto& known = known_[size_t(j)];
+            const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), &series_[size_t(j)], &known[1]);
+            known[1] = known[0];
+            known[0] = {s[j] - sol.r, sol.penetrationPower};
             r[j] = sol.r;
             slope[j] = sol.slope;
             most = std::max(most, sol.iterations);

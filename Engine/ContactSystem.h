@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include <array>
 #include <vector>
 
 namespace jawari
@@ -45,6 +46,9 @@ private:
 
     std::vector<ContactPoint> points_;
     std::vector<DividedSeries> series_;  // per point, for its law's exponent
+    // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
+    // one's p is this step's s (ContactLaw.h, KnownPower).
+    std::vector<std::array<KnownPower, 2>> known_;
     Eigen::MatrixXd A_;
     bool diagonal_ = true;
     Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;
