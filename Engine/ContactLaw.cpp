@@ -15,56 +15,6 @@ double contactPotential(const ContactLaw& law, double penetration)
     return law.stiffness / beta * std::pow(penetration, beta);
 }
 
-ChordSlope chordSlope(const ContactLaw& law, double s, double r)
-{
-    return chordSlope(law, s, s > 0.0 ? std::pow(s, law.exponent) : 0.0, r);
-}
-
-ChordSlope chordSlope(const ContactLaw& law, double s, double sAlpha, double r)
-{
-    const double K = law.stiffness;
-    const double alpha = law.exponent;
-    const double beta = alpha + 1.0;
-    const double sAfter = s - r;  // penetration at n+1
-    ChordSlope out;
-
-    if (r == 0.0)
-    {
-        if (s > 0.0)
-        {
-            out.value = -K * sAlpha;
-            out.derivative = 0.5 * K * alpha * sAlpha / s;
-        }
-        return out;
-    }
-    if (s > 0.0 && sAfter > 0.0)
-    {
-        // In contact at both ends: psi^{n+1} - psi^{n-1} = K/beta s^beta expm1(beta log1p(-r/s)),
-        // free of cancellation; (s - r)^alpha = s^alpha exp(alpha log1p(-r/s)) from the same log.
-        const double x = r / s;
-        const double E = std::expm1(beta * std::log1p(-x));  // (1 - x)^beta - 1
-        out.value = K / beta * sAlpha * s * E / r;
-        if (std::abs(x) < 1e-3)
-            // dG/dr = K s^(alpha-1) [(beta-1)/2 - (beta-1)(beta-2)/3 x + O(x^2)]
-            out.derivative = K * sAlpha / s * ((beta - 1.0) / 2.0 - (beta - 1.0) * (beta - 2.0) / 3.0 * x);
-        else
-            // (s - r)^alpha = s^alpha (1 - x)^beta / (1 - x), from the same expm1.
-            out.derivative = (-K * sAlpha * (1.0 + E) / (1.0 - x) - out.value) / r;
-        return out;
-    }
-    // At most one end in contact: one potential is zero, nothing cancels.
-    const double psiBefore = s > 0.0 ? K / beta * sAlpha * s : 0.0;
-    double psiAfter = 0.0, forceAfter = 0.0;
-    if (sAfter > 0.0)
-    {
-        forceAfter = K * std::pow(sAfter, alpha);
-        psiAfter = forceAfter * sAfter / beta;
-    }
-    out.value = (psiAfter - psiBefore) / r;
-    out.derivative = (-forceAfter - out.value) / r;
-    return out;
-}
-
 DividedSeries dividedSeries(double alpha)
 {
     DividedSeries series;
@@ -123,6 +73,34 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
 }
 
 }  // namespace
+
+ChordSlope chordSlope(const ContactLaw& law, double s, double r)
+{
+    return chordSlope(law, dividedSeries(law.exponent), s, s > 0.0 ? std::pow(s, law.exponent) : 0.0, r);
+}
+
+ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r)
+{
+    const double p = s - r;  // penetration at n+1
+    if (s <= 0.0 && p <= 0.0)
+        return {};  // out of contact at both ends
+    const double scale = law.stiffness / (law.exponent + 1.0);
+    double D = 0.0, dD = 0.0;
+    if (p > 0.0)
+    {
+        const Divided v = divided(series, law.exponent, s, s > 0.0 ? 1.0 / s : 0.0, sAlpha, r);
+        D = v.D;
+        dD = v.dD;
+    }
+    else
+    {
+        // Leaving: D = (0 - s^beta) / (p - s), and p^alpha = 0.
+        D = sAlpha * s / r;
+        dD = D / r;
+    }
+    // G = psi difference / r = -(K/beta) D, and p = s - r: dG/dr = (K/beta) dD/dp.
+    return {-scale * D, scale * dD};
+}
 
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
                                          const DividedSeries* series, const KnownPower* known)

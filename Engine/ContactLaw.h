@@ -18,21 +18,6 @@ struct ContactLaw
 // psi as a function of the penetration g - u (J/m).
 double contactPotential(const ContactLaw& law, double penetration);
 
-// With s = g - u^{n-1} and r = u^{n+1} - u^{n-1}, the chord slope of psi along u,
-//   G(r) = (psi(u^{n-1} + r) - psi(u^{n-1})) / r      (G(0) = psi'(u^{n-1})),
-// and dG/dr. G <= 0 and is nondecreasing (psi is convex); the contact force is f = -G.
-// The difference of potentials is formed as s^(alpha+1) expm1((alpha+1) log1p(-r/s)), which
-// keeps full relative accuracy as r -> 0 (no cancellation), so f r = -(psi^{n+1} - psi^{n-1})
-// holds to rounding and the energy balance with it.
-struct ChordSlope
-{
-    double value = 0.0;
-    double derivative = 0.0;
-};
-ChordSlope chordSlope(const ContactLaw& law, double s, double r);
-// The same with sAlpha = [s]_+^alpha precomputed (it is fixed during a solve).
-ChordSlope chordSlope(const ContactLaw& law, double s, double sAlpha, double r);
-
 // The series of the divided difference D(p) = (p^beta - s^beta) / (p - s) about p = s:
 //   D = s^alpha sum_k c_k e^k,   e = (p - s) / s,   c_k = binomial(beta, k + 1),
 // used where |e| <= kReach: no pow and no cancellation there. It depends on alpha only, so it is
@@ -45,6 +30,22 @@ struct DividedSeries
     double c[kTerms] = {};
 };
 DividedSeries dividedSeries(double alpha);
+
+// With s = g - u^{n-1} and r = u^{n+1} - u^{n-1}, the chord slope of psi along u,
+//   G(r) = (psi(u^{n-1} + r) - psi(u^{n-1})) / r      (G(0) = psi'(u^{n-1})),
+// and dG/dr. G <= 0 and is nondecreasing (psi is convex); the contact force is f = -G.
+// Where both ends are in contact and |r/s| <= DividedSeries::kReach, G comes from the series of
+// the divided difference (no pow, no cancellation as r -> 0); elsewhere p^beta - s^beta cancels by
+// a few ulps at most. So f r = -(psi^{n+1} - psi^{n-1}) holds to rounding and the energy balance
+// with it.
+struct ChordSlope
+{
+    double value = 0.0;
+    double derivative = 0.0;
+};
+ChordSlope chordSlope(const ContactLaw& law, double s, double r);
+// The same with the law's series and sAlpha = [s]_+^alpha given (both fixed during a solve).
+ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r);
 
 // Solves  r + k G(r) = b  (k > 0): the scalar contact equation of DESIGN.md section 2.
 // Out of contact, or leaving it (the root has the string off the obstacle at n+1), the root is in

@@ -12,6 +12,7 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     points_ = points;
     series_.clear();
     known_.assign(points_.size(), {});
+    sAlpha_.assign(points_.size(), 0.0);
     for (const auto& p : points_)
         series_.push_back(dividedSeries(p.law.exponent));
     A_ = std::move(couplingA);
@@ -71,7 +72,7 @@ double ContactSystem::residual(const double* s, const double* b, const Eigen::Ve
     const Eigen::Index P = r.size();
     for (Eigen::Index j = 0; j < P; ++j)
     {
-        const ChordSlope c = chordSlope(points_[j].law, s[j], r[j]);
+        const ChordSlope c = chordSlope(points_[j].law, series_[size_t(j)], s[j], sAlpha_[size_t(j)], r[j]);
         G_[j] = c.value;
         if (withDerivative)
             dG_[j] = c.derivative;
@@ -91,7 +92,8 @@ void ContactSystem::gaussSeidelSweep(const double* s, const double* b, Eigen::Ve
         double others = 0.0;
         for (Eigen::Index i = 0; i < P; ++i)
             if (i != j)
-                others += A_(j, i) * chordSlope(points_[i].law, s[i], r[i]).value;
+                others +=
+                    A_(j, i) * chordSlope(points_[i].law, series_[size_t(i)], s[i], sAlpha_[size_t(i)], r[i]).value;
         r[j] = solveScalarContact(points_[j].law, s[j], b[j] - others, A_(j, j), &series_[size_t(j)]).r;
     }
 }
@@ -131,7 +133,9 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
         }
         return 0;
     }
-    // Warm start from the previous steps where the point was in contact (as in the scalar path).
+    for (Eigen::Index j = 0; j < P; ++j)
+        sAlpha_[size_t(j)] = s[j] > 0.0 ? std::pow(s[j], points_[j].law.exponent) : 0.0;
+    // Warm start from the previous steps where the point was in contact.
     for (Eigen::Index j = 0; j < P; ++j)
         r_[j] = olderContact_[j] ? 2.0 * previousR_[j] - olderR_[j] : previousContact_[j] ? previousR_[j] : b[j];
     double norm = residual(s, b, r_, phi_, true);
@@ -183,7 +187,7 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
     for (Eigen::Index j = 0; j < P; ++j)
     {
         r[j] = r_[j];
-        slope[j] = chordSlope(points_[j].law, s[j], r_[j]).value;
+        slope[j] = chordSlope(points_[j].law, series_[size_t(j)], s[j], sAlpha_[size_t(j)], r_[j]).value;
         olderR_[j] = previousR_[j];
         olderContact_[j] = previousContact_[j];
         previousR_[j] = r_[j];

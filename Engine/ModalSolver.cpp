@@ -617,14 +617,17 @@ void ModalSolver::advanceCompliance()
 {
     if (complianceW_.size() == 0)
         return;
-    for (int j = 0; j < P_; ++j)
-    {
-        double d = 0.0;
-        for (int i = 0; i < P_; ++i)
-            d -= complianceW_(j, i) * slope_[i];
-        deltaPrev_[j] = delta_[j];
-        delta_[j] = d;
-    }
+    std::copy(delta_.begin(), delta_.end(), deltaPrev_.begin());
+    std::fill(delta_.begin(), delta_.end(), 0.0);
+    // delta = -C W G, column by column over the points that press (most do not, most of the time).
+    for (int i = 0; i < P_; ++i)
+        if (slope_[i] != 0.0)
+        {
+            const double* column = complianceW_.data() + static_cast<ptrdiff_t>(i) * P_;  // column-major
+            const double g = slope_[i];
+            for (int j = 0; j < P_; ++j)
+                delta_[j] -= column[j] * g;
+        }
 }
 
 void ModalSolver::stepPaired()
