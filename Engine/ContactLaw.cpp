@@ -21,11 +21,16 @@ DividedSeries dividedSeries(double alpha)
     series.exponent = alpha;
     const double beta = alpha + 1.0;
     double c = beta;  // binomial(beta, 1)
-    for (int k = 0; k < DividedSeries::kTerms; ++k)
+    constexpr int n = DividedSeries::kTerms;
+    for (int k = 0; k < n; ++k)
     {
         series.c[k] = c;
         c *= (beta - (k + 1.0)) / (k + 2.0);  // binomial(beta, k + 2)
     }
+    for (int k = 0; k + 1 < n; ++k)
+        series.c1[k] = (k + 1.0) * series.c[k + 1];
+    for (int k = 0; k + 2 < n; ++k)
+        series.c2[k] = (k + 2.0) * (k + 1.0) * series.c[k + 2];
     return series;
 }
 
@@ -39,6 +44,18 @@ struct Divided
     double d2D = 0.0;  // d2D/dp2
 };
 
+// sum_k a_k x^k over 16 coefficients by Estrin's scheme: four dependent multiply-adds instead of
+// fifteen (the three series of an evaluation run side by side).
+inline double polynomial16(const double* a, double x, double x2, double x4, double x8)
+{
+    static_assert(DividedSeries::kTerms == 16);
+    double p[8];
+    for (int k = 0; k < 8; ++k)
+        p[k] = a[2 * k] + a[2 * k + 1] * x;
+    const double q0 = p[0] + p[1] * x2, q1 = p[2] + p[3] * x2, q2 = p[4] + p[5] * x2, q3 = p[6] + p[7] * x2;
+    return (q0 + q1 * x4) + (q2 + q3 * x4) * x8;
+}
+
 // D and its derivatives at p = s - r > 0, with sAlpha = [s]_+^alpha and invS = 1/s. Near s, D is
 // a function of e = -r/s, so r keeps its full relative precision even where it is far smaller
 // than s.
@@ -49,17 +66,10 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
         const double e = -r * invS;
         if (std::abs(e) <= DividedSeries::kReach)
         {
-            constexpr int n = DividedSeries::kTerms;
-            const double* c = series.c;
-            double v = c[n - 1], dv = (n - 1) * c[n - 1], d2v = (n - 1) * (n - 2) * c[n - 1];
-            for (int k = n - 2; k >= 2; --k)
-            {
-                v = v * e + c[k];
-                dv = dv * e + k * c[k];
-                d2v = d2v * e + k * (k - 1) * c[k];
-            }
-            v = (v * e + c[1]) * e + c[0];
-            dv = dv * e + c[1];
+            const double e2 = e * e, e4 = e2 * e2, e8 = e4 * e4;
+            const double v = polynomial16(series.c, e, e2, e4, e8);
+            const double dv = polynomial16(series.c1, e, e2, e4, e8);
+            const double d2v = polynomial16(series.c2, e, e2, e4, e8);
             const double scale = sAlpha * invS;
             return {sAlpha * v, scale * dv, scale * invS * d2v};
         }

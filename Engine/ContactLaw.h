@@ -28,6 +28,8 @@ struct DividedSeries
     static constexpr double kReach = 0.125;  // |c_16| 0.125^16 < 1e-16 c_0 for alpha in [1, 4]
     double exponent = -1.0;                  // the alpha it was built for
     double c[kTerms] = {};
+    double c1[kTerms] = {};  // of dD/de: (k + 1) c_{k+1}
+    double c2[kTerms] = {};  // of d2D/de2: (k + 2)(k + 1) c_{k+2}
 };
 DividedSeries dividedSeries(double alpha);
 
