@@ -24,26 +24,54 @@ int main(int argc, char* argv[])
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
     int block = 512, quality = 1, polyphony = 0, drone = 1;
-    for (int i = 1; i + 1 < argc; i += 2)
+    const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
+                        "[--block 512] [--polyphony N] [--drone 0|1]\n";
+    for (int i = 1; i < argc; i += 2)
     {
-        const std::string key = argv[i], value = argv[i + 1];
-        if (key == "--minutes")
-            minutes = std::stod(value);
-        else if (key == "--rate")
-            rate = std::stod(value);
-        else if (key == "--block")
-            block = std::stoi(value);
-        else if (key == "--polyphony")
-            polyphony = std::clamp(std::stoi(value), 0, 8);
-        else if (key == "--drone")
-            drone = std::stoi(value) != 0 ? 1 : 0;
-        else if (key == "--quality")
-            quality = value == "draft" ? 0 : value == "high" ? 2 : 1;
-        else
+        const std::string key = argv[i];
+        if (key == "-h" || key == "--help")
         {
-            std::fprintf(stderr, "jawari-soak: unknown option %s\n", key.c_str());
+            std::fputs(usage, stdout);
+            return 0;
+        }
+        if (i + 1 >= argc)
+        {
+            std::fprintf(stderr, "jawari-soak: %s needs a value\n%s", key.c_str(), usage);
             return 2;
         }
+        const std::string value = argv[i + 1];
+        try
+        {
+            if (key == "--minutes")
+                minutes = std::stod(value);
+            else if (key == "--rate")
+                rate = std::stod(value);
+            else if (key == "--block")
+                block = std::stoi(value);
+            else if (key == "--polyphony")
+                polyphony = std::clamp(std::stoi(value), 0, 8);
+            else if (key == "--drone")
+                drone = std::stoi(value) != 0 ? 1 : 0;
+            else if (key == "--quality" && (value == "draft" || value == "standard" || value == "high"))
+                quality = value == "draft" ? 0 : value == "high" ? 2 : 1;
+            else
+            {
+                std::fprintf(stderr, "jawari-soak: unknown option or value %s %s\n%s", key.c_str(), value.c_str(),
+                             usage);
+                return 2;
+            }
+        }
+        catch (const std::exception&)
+        {
+            std::fprintf(stderr, "jawari-soak: %s takes a number, got '%s'\n", key.c_str(), value.c_str());
+            return 2;
+        }
+    }
+    if (!(minutes > 0.0 && minutes <= 24 * 60.0) || !(rate >= 22050.0 && rate <= 192000.0) || block < 1 || block > 8192)
+    {
+        std::fprintf(stderr, "jawari-soak: --minutes must be in (0, 1440], --rate in [22050, 192000] and --block in "
+                             "[1, 8192]\n");
+        return 2;
     }
     jawari::plugin::JawariAudioProcessor p;
     p.setCurrentProgram(jawari::plugin::factoryPresetIndex("Tanpura drone"));
