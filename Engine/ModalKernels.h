@@ -55,6 +55,39 @@ inline double predict(const double* __restrict a, const double* __restrict e, co
     return y;
 }
 
+// predict() and the contact projections u_j = phi_j . q~ of up to kMaxFused points in the same pass
+// (phi_j at phi + j stride): one read of the state instead of 1 + P. M a multiple of 8. Returns
+// h . q~.
+inline constexpr int kMaxFused = 8;
+inline double predictProject(const double* __restrict a, const double* __restrict e, const double* __restrict current,
+                             double* __restrict previous, const double* __restrict h, const double* __restrict phi,
+                             int stride, int P, int M, double* __restrict u)
+{
+    alignas(64) double ph[8] = {};
+    alignas(64) double pu[kMaxFused][8] = {};
+    for (int p = 0; p < M; p += 8)
+    {
+        alignas(64) double next[8];
+#pragma omp simd aligned(ph, next : 64)
+        for (int k = 0; k < 8; ++k)
+        {
+            next[k] = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
+            previous[p + k] = next[k];
+            ph[k] += h[p + k] * next[k];
+        }
+        for (int j = 0; j < P; ++j)
+        {
+            const double* __restrict row = phi + static_cast<ptrdiff_t>(j) * stride + p;
+#pragma omp simd aligned(next : 64)
+            for (int k = 0; k < 8; ++k)
+                pu[j][k] += row[k] * next[k];
+        }
+    }
+    for (int j = 0; j < P; ++j)
+        u[j] = ((pu[j][0] + pu[j][4]) + (pu[j][2] + pu[j][6])) + ((pu[j][1] + pu[j][5]) + (pu[j][3] + pu[j][7]));
+    return ((ph[0] + ph[4]) + (ph[2] + ph[6])) + ((ph[1] + ph[5]) + (ph[3] + ph[7]));
+}
+
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
 // predictions with scalar contact corrections still to apply (DESIGN.md section 2, with
 // q^{n+1} = q~^{n+1} + c phi):

@@ -668,7 +668,11 @@ void ModalSolver::stepPaired()
 void ModalSolver::stepSingle()
 {
     // q~ = a q - e q^{n-1}, written over q^{n-1}; its pickup and contact projections.
-    pickupTilde_ = kernels::predict(a_, e_, q_, qPrev_, h_, Mpad_);
+    const bool fused = !transform_ && externalForce_ == 0.0 && P_ > 0 && P_ <= kernels::kMaxFused;
+    if (fused)
+        pickupTilde_ = kernels::predictProject(a_, e_, q_, qPrev_, h_, phi_, stride_, P_, Mpad_, uTilde_.data());
+    else
+        pickupTilde_ = kernels::predict(a_, e_, q_, qPrev_, h_, Mpad_);
     if (externalForce_ != 0.0)
     {
         // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.
@@ -683,7 +687,7 @@ void ModalSolver::stepSingle()
         for (int j = 0; j < P_; ++j)
             uTilde_[j] = transform_->scale * transform_->out[transform_->nodes[j] - 1];
     }
-    else
+    else if (!fused)
         for (int j = 0; j < P_; ++j)
             uTilde_[j] = kernels::dot(phi_ + size_t(j) * stride_, qPrev_, Mpad_);
 
