@@ -203,7 +203,8 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         const double force = c * v.D, gap = r - b;  // Phi = force - gap
         const double phi = force - gap, dPhi = c * v.dD + 1.0;
         double step = 0.0;  // in p
-        if (gap > 4.0 * force || (force > 4.0 * gap && gap > 0.01 * p))
+        const bool far = gap > 4.0 * force || (force > 4.0 * gap && gap > 0.01 * p);
+        if (far)
         {
             // Far from the root, where steps in p creep along the curved D: Newton in z = log p on
             // F(z) = log(c D) - log(d - p), which is nearly linear in z (D ~ p^alpha) away from
@@ -235,10 +236,10 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         }
         const double moved = next - r;
         r = next;
-        if (!clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + force))
+        if (!far && !clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + force))
         {
-            // Cubic convergence: r is the root to ~1e-18 of its scale. D at it from its Taylor
-            // series to the same order, without another evaluation.
+            // A Halley step this small: r is the root to ~1e-18 of its scale (cubic convergence). D at it from its
+            // Taylor series to the same order, without another evaluation.
             v.D -= moved * (v.dD - 0.5 * moved * v.d2D);
             break;
         }
