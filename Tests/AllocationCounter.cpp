@@ -3,14 +3,21 @@
 #include <cstdlib>
 #include <new>
 
-namespace jawari::test
+namespace
 {
 thread_local bool countingAllocations = false;
+}
+
+namespace jawari::test
+{
 std::atomic<long> allocations{0};
+void countAllocationsOnThisThread(bool on)
+{
+    countingAllocations = on;
+}
 }  // namespace jawari::test
 
 using jawari::test::allocations;
-using jawari::test::countingAllocations;
 
 void* operator new(std::size_t size)
 {

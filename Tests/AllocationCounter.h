@@ -7,17 +7,19 @@
 
 namespace jawari::test
 {
-extern thread_local bool countingAllocations;
 extern std::atomic<long> allocations;
+// Whether this thread counts. The thread_local flag stays inside AllocationCounter.cpp: an extern
+// thread_local reached through GCC's TLS wrapper trips UBSan's null check (a false report).
+void countAllocationsOnThisThread(bool on);
 
 struct CountAllocations
 {
     CountAllocations()
     {
         allocations = 0;
-        countingAllocations = true;
+        countAllocationsOnThisThread(true);
     }
-    ~CountAllocations() { countingAllocations = false; }
+    ~CountAllocations() { countAllocationsOnThisThread(false); }
     CountAllocations(const CountAllocations&) = delete;
     CountAllocations& operator=(const CountAllocations&) = delete;
 };
