@@ -54,15 +54,16 @@ ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double
 // closed form. In contact at n+1 it is found in the penetration p = s - r in (0, d], d = s - b:
 //   Phi(p) = (k K / beta) D(p) + p - d = 0.
 // Phi is increasing and convex for alpha >= 1 (D is the mean of psi' between s and p, and the
-// third derivative of psi is >= 0), so Newton from the right of the root descends to it
-// monotonically and a step from the left lands right of it. Started from the root of Phi's
-// quadratic model about p = s (or from a power balance on a new contact) it takes about three
-// evaluations of D, each one pow (none near s, where the series serves).
+// third derivative of psi is >= 0), so Halley's and Newton's steps from the right of the root
+// descend to it without passing it. Started at or right of the root where a bound allows (the
+// tangent at s, a linear bound on D, a power balance on a new contact), else from Phi's quadratic
+// model about s, it takes about two evaluations of D, each one pow at most (none near s, where
+// the series serves); Newton in log p takes the steps from a start far off.
 struct ScalarContactSolution
 {
     double r = 0.0;
     double slope = 0.0;  // G(r): the force per metre is -slope
-    int iterations = 0;  // Newton steps
+    int iterations = 0;  // Halley or Newton steps
     // p^alpha at the root's penetration p = s - r, formed from D without a pow (p^beta = s^beta +
     // D (p - s)); 0 when the string is off the obstacle at n+1 or p < s/2 (where that would cancel).
     double penetrationPower = 0.0;

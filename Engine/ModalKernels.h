@@ -13,6 +13,12 @@ namespace jawari::kernels
 
 inline constexpr int kBlock = 32;  // 4 x 8 doubles (AVX-512) or 8 x 4 (AVX2)
 
+// Eight partial sums (one vector) added as a tree, in a fixed order.
+inline double sum8(const double* v)
+{
+    return ((v[0] + v[4]) + (v[2] + v[6])) + ((v[1] + v[5]) + (v[3] + v[7]));
+}
+
 // The kBlock partial sums added as a tree (a fixed order): five dependent vector adds instead of
 // 31 dependent scalar ones, which cost as much as the whole pass over 200 modes.
 inline double horizontalSum(const double* partial)
@@ -25,7 +31,7 @@ inline double horizontalSum(const double* partial)
 #pragma omp simd aligned(t : 64)
     for (int k = 0; k < 8; ++k)
         t[k] += t[k + 8];
-    return ((t[0] + t[4]) + (t[2] + t[6])) + ((t[1] + t[5]) + (t[3] + t[7]));
+    return sum8(t);
 }
 
 // q~ = a q - e qPrev written over qPrev; returns h . q~ (the single-step path; contact
@@ -84,8 +90,8 @@ inline double predictProject(const double* __restrict a, const double* __restric
         }
     }
     for (int j = 0; j < P; ++j)
-        u[j] = ((pu[j][0] + pu[j][4]) + (pu[j][2] + pu[j][6])) + ((pu[j][1] + pu[j][5]) + (pu[j][3] + pu[j][7]));
-    return ((ph[0] + ph[4]) + (ph[2] + ph[6])) + ((ph[1] + ph[5]) + (ph[3] + ph[7]));
+        u[j] = sum8(pu[j]);
+    return sum8(ph);
 }
 
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
