@@ -31,6 +31,12 @@ DividedSeries dividedSeries(double alpha)
         series.c1[k] = (k + 1.0) * series.c[k + 1];
     for (int k = 0; k + 2 < n; ++k)
         series.c2[k] = (k + 2.0) * (k + 1.0) * series.c[k + 2];
+    double a = 1.0;  // binomial(alpha, 0)
+    for (int k = 0; k < n; ++k)
+    {
+        series.a[k] = a;
+        a *= (alpha - k) / (k + 1.0);
+    }
     return series;
 }
 
@@ -56,10 +62,19 @@ inline double polynomial16(const double* a, double x, double x2, double x4, doub
     return (q0 + q1 * x4) + (q2 + q3 * x4) * x8;
 }
 
+// A power x^alpha known during a solve (its latest pow), from which one within kReach follows by
+// the series a_k.
+struct Anchor
+{
+    double x = 0.0, invX = 0.0, xAlpha = 0.0;  // xAlpha = 0: none yet
+};
+
 // D and its derivatives at p = s - r > 0, with sAlpha = [s]_+^alpha and invS = 1/s. Near s, D is
 // a function of e = -r/s, so r keeps its full relative precision even where it is far smaller
-// than s.
-Divided divided(const DividedSeries& series, double alpha, double s, double invS, double sAlpha, double r)
+// than s. Away from s, p^alpha comes from the anchor's series where p is within reach of it, else
+// from a pow that becomes the anchor.
+Divided divided(const DividedSeries& series, double alpha, double s, double invS, double sAlpha, double r,
+                Anchor& anchor)
 {
     if (s > 0.0)
     {
@@ -75,11 +90,22 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
         }
     }
     // Away from s (or with s <= 0) nothing cancels: p^beta - s^beta loses at most a few ulps.
-    const double p = s - r, h = p - s;
-    const double pAlpha = std::pow(p, alpha);
-    const double D = (pAlpha * p - sAlpha * std::max(s, 0.0)) / h;
-    const double dD = ((alpha + 1.0) * pAlpha - D) / h;
-    return {D, dD, ((alpha + 1.0) * alpha * pAlpha / p - 2.0 * dD) / h};
+    const double p = s - r, invH = -1.0 / r;  // h = p - s = -r
+    double pAlpha = 0.0;
+    const double x = (p - anchor.x) * anchor.invX;
+    if (anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach)
+    {
+        const double x2 = x * x, x4 = x2 * x2;
+        pAlpha = anchor.xAlpha * polynomial16(series.a, x, x2, x4, x4 * x4);
+    }
+    else
+    {
+        pAlpha = std::pow(p, alpha);
+        anchor = {p, 1.0 / p, pAlpha};
+    }
+    const double D = (pAlpha * p - sAlpha * std::max(s, 0.0)) * invH;
+    const double dD = ((alpha + 1.0) * pAlpha - D) * invH;
+    return {D, dD, ((alpha + 1.0) * alpha * pAlpha / p - 2.0 * dD) * invH};
 }
 
 }  // namespace
@@ -98,7 +124,8 @@ ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double
     double D = 0.0, dD = 0.0;
     if (p > 0.0)
     {
-        const Divided v = divided(series, law.exponent, s, s > 0.0 ? 1.0 / s : 0.0, sAlpha, r);
+        Anchor none;
+        const Divided v = divided(series, law.exponent, s, s > 0.0 ? 1.0 / s : 0.0, sAlpha, r, none);
         D = v.D;
         dD = v.dD;
     }
@@ -130,7 +157,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     double sAlpha = 0.0;
     if (s > 0.0)
     {
-        const double x = known != nullptr && known->xAlpha > 0.0 ? (s - known->x) / known->x : 1.0;
+        const double x = known != nullptr && known->xAlpha > 0.0 ? (s - known->x) * known->invX : 1.0;
         if (std::abs(x) <= 1e-6)
             // (1 + x)^alpha to second order: the error ~ x^3 <= 1e-18.
             sAlpha = known->xAlpha * (1.0 + x * alpha * (1.0 + 0.5 * x * (alpha - 1.0)));
@@ -164,11 +191,13 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     if (s > 0.0)
     {
         // The root of Phi's quadratic model about s in e = (p - s)/s, A2 e^2 + A1 e + A0 = 0
-        // (A1 > 0): the root nearest e = 0, in a form free of cancellation, with an error O(e^3).
+        // (A1 > 0, A2 >= 0): the root nearest e = 0 by one Halley step from e = 0,
+        // -A0 A1 / (A1^2 - A0 A2), which is it to a relative O((A0 A2 / A1^2)^2), within the model's own
+        // error O(e^3) (and needs no square root); Newton's -A0 / A1 where that step would double it.
         const double cs = c * sAlpha;
         const double A2 = cs * series->c[2], A1 = cs * series->c[1] + s, A0 = cs * series->c[0] + b;
-        const double disc = A1 * A1 - 4.0 * A2 * A0;
-        const double e = disc >= 0.0 ? -2.0 * A0 / (A1 + std::sqrt(disc)) : -A0 / A1;
+        const double A1squared = A1 * A1, denominator = A1squared - A0 * A2;
+        const double e = denominator >= 0.5 * A1squared ? -A0 * A1 / denominator : -A0 / A1;
         const double model = s * (1.0 + e);
         if (A0 > 0.0)  // Phi(s) > 0
         {
@@ -195,7 +224,8 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     const double invS = s > 0.0 ? 1.0 / s : 0.0;
 
     constexpr int maxIterations = 100;
-    Divided v = divided(*series, alpha, s, invS, sAlpha, r);
+    Anchor anchor;
+    Divided v = divided(*series, alpha, s, invS, sAlpha, r, anchor);
     for (int it = 1; it <= maxIterations; ++it)
     {
         sol.iterations = it;
@@ -215,12 +245,10 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         }
         else
         {
-            // Halley: cubic convergence, from the right of the root towards it.
-            const double invDPhi = 1.0 / dPhi;
-            const double newton = -phi * invDPhi;
-            step = newton / (1.0 + 0.5 * newton * c * v.d2D * invDPhi);
-            if (!(std::abs(step) <= 2.0 * std::abs(newton)))
-                step = newton;
+            // Halley, -Phi Phi' / (Phi'^2 - Phi Phi''/2): cubic convergence, from the right of the
+            // root towards it. Where it would step more than twice Newton's -Phi/Phi', Newton's.
+            const double dPhi2 = dPhi * dPhi, denominator = dPhi2 - 0.5 * phi * c * v.d2D;
+            step = denominator >= 0.5 * dPhi2 ? -phi * dPhi / denominator : -phi / dPhi;
         }
         double next = r - step;
         bool clamped = false;
@@ -243,13 +271,20 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
             v.D -= moved * (v.dD - 0.5 * moved * v.d2D);
             break;
         }
-        v = divided(*series, alpha, s, invS, sAlpha, r);
+        v = divided(*series, alpha, s, invS, sAlpha, r, anchor);
     }
     sol.r = r;
     sol.slope = -K / beta * v.D;
     p = s - r;
+    const double invP = 1.0 / p;
+    const double x = (p - anchor.x) * anchor.invX;
     if (p >= 0.5 * s && p > 0.0)
-        sol.penetrationPower = (sAlpha * std::max(s, 0.0) - v.D * r) / p;
+        sol.penetration = {p, (sAlpha * std::max(s, 0.0) - v.D * r) * invP, invP};
+    else if (p > 0.0 && anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach)
+    {
+        const double x2 = x * x, x4 = x2 * x2;
+        sol.penetration = {p, anchor.xAlpha * polynomial16(series->a, x, x2, x4, x4 * x4), invP};
+    }
     return sol;
 }
 

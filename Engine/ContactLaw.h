@@ -30,6 +30,9 @@ struct DividedSeries
     double c[kTerms] = {};
     double c1[kTerms] = {};  // of dD/de: (k + 1) c_{k+1}
     double c2[kTerms] = {};  // of d2D/de2: (k + 2)(k + 1) c_{k+2}
+    // (1 + x)^alpha = sum_k a_k x^k, a_k = binomial(alpha, k): a power x^alpha from one known
+    // within kReach of it, without a pow (the solve's later iterates, near its first).
+    double a[kTerms] = {};
 };
 DividedSeries dividedSeries(double alpha);
 
@@ -49,6 +52,15 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double r);
 // The same with the law's series and sAlpha = [s]_+^alpha given (both fixed during a solve).
 ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r);
 
+// A power x^alpha known at some x > 0 (an earlier solve's penetration): the contact point's s two
+// steps later is that step's p to ~1e-12, so s^alpha follows from it without a pow.
+struct KnownPower
+{
+    double x = 0.0;
+    double xAlpha = 0.0;  // x^alpha, or 0 if unknown
+    double invX = 0.0;    // 1/x
+};
+
 // Solves  r + k G(r) = b  (k > 0): the scalar contact equation of DESIGN.md section 2.
 // Out of contact, or leaving it (the root has the string off the obstacle at n+1), the root is in
 // closed form. In contact at n+1 it is found in the penetration p = s - r in (0, d], d = s - b:
@@ -64,16 +76,10 @@ struct ScalarContactSolution
     double r = 0.0;
     double slope = 0.0;  // G(r): the force per metre is -slope
     int iterations = 0;  // Halley or Newton steps
-    // p^alpha at the root's penetration p = s - r, formed from D without a pow (p^beta = s^beta +
-    // D (p - s)); 0 when the string is off the obstacle at n+1 or p < s/2 (where that would cancel).
-    double penetrationPower = 0.0;
-};
-// A power x^alpha known at some x > 0 (an earlier solve's penetrationPower): the contact point's
-// s two steps later is that step's p to ~1e-12, so s^alpha follows from it without a pow.
-struct KnownPower
-{
-    double x = 0.0;
-    double xAlpha = 0.0;  // x^alpha, or 0 if unknown
+    // The root's penetration p = s - r with p^alpha, formed without a pow: from D (p^beta = s^beta +
+    // D (p - s)) where p >= s/2, else from the solve's last pow where p is within reach of it. xAlpha
+    // is 0 when the string is off the obstacle at n+1 or neither applies.
+    KnownPower penetration;
 };
 // `series` (optional) is dividedSeries(law.exponent), built once by the caller; without it, or if
 // it was built for another exponent, it is built here. `known` (optional): see KnownPower.

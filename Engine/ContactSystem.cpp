@@ -109,7 +109,7 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
             auto& known = known_[size_t(j)];
             const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), &series_[size_t(j)], &known[1]);
             known[1] = known[0];
-            known[0] = {s[j] - sol.r, sol.penetrationPower};
+            known[0] = sol.penetration;
             r[j] = sol.r;
             slope[j] = sol.slope;
             most = std::max(most, sol.iterations);

@@ -22,6 +22,7 @@ Decimator::Decimator(int factor, double hostRateHz)
     {
         taps_ = {1.0};
         history_.assign(2, 0.0);
+        reversed_.assign(2, 0.0);
         return;
     }
     const double internalRate = factor * hostRateHz;
@@ -41,15 +42,19 @@ Decimator::Decimator(int factor, double hostRateHz)
         sum += v;
     taps_.resize(n);
     for (unsigned int i = 0; i < n; ++i)
-        taps_[i] = static_cast<double>(h[n - 1 - i]) / sum;  // unit gain at DC, time-reversed
+        // Unit gain at DC; time-reversed, which for these symmetric taps is the same order. Pairs are
+        // averaged so the symmetry holds exactly (the design is symmetric to float rounding).
+        taps_[i] = 0.5 * (static_cast<double>(h[n - 1 - i]) + static_cast<double>(h[i])) / sum;
     latency_ = static_cast<int>((n - 1) / 2 / static_cast<unsigned int>(factor));
     history_.assign(2 * n, 0.0);
+    reversed_.assign(2 * n, 0.0);
 }
 
 void Decimator::reset()
 {
     std::fill(history_.begin(), history_.end(), 0.0);
-    position_ = 0;
+    std::fill(reversed_.begin(), reversed_.end(), 0.0);
+    position_ = reversedPosition_ = 0;
 }
 
 double Decimator::process(const double* internal)
@@ -63,9 +68,16 @@ double Decimator::process(const double* internal)
         history_[position_ + n] = internal[i];
         if (++position_ == n)
             position_ = 0;
+        reversedPosition_ = (reversedPosition_ == 0 ? n : reversedPosition_) - 1;
+        reversed_[reversedPosition_] = internal[i];
+        reversed_[reversedPosition_ + n] = internal[i];
     }
-    // history_[position_ .. position_ + n) holds the last n samples, oldest first.
-    return kernels::dot(taps_.data(), history_.data() + position_, n);
+    // history_[position_ .. position_ + n) holds the last n samples oldest first, reversed_ from
+    // reversedPosition_ newest first; n is odd, and the middle tap pairs with nothing.
+    const int half = n / 2;
+    const double* oldest = history_.data() + position_;
+    return kernels::pairedDot(taps_.data(), oldest, reversed_.data() + reversedPosition_, half)
+           + taps_[size_t(half)] * oldest[half];
 }
 
 }  // namespace jawari

@@ -3,7 +3,8 @@
 // A linear-phase low-pass FIR designed by liquid-dsp's Kaiser-window routine (liquid_firdes_kaiser,
 // length from estimate_req_filter_len): passband to min(20 kHz, 0.45 host rate), stopband from the
 // host Nyquist frequency, 100 dB design attenuation, so nothing aliases back at all.
-// Latency: (length - 1)/2 internal samples, made a whole number of host samples.
+// Latency: (length - 1)/2 internal samples, made a whole number of host samples. The taps are made
+// exactly symmetric, and the output costs one multiply per pair of taps.
 
 #include <vector>
 
@@ -30,9 +31,12 @@ private:
     int factor_ = 1;
     int latency_ = 0;
     double passbandHz_ = 0.0;
-    std::vector<double> taps_;     // time-reversed, so the output is a plain dot product
-    std::vector<double> history_;  // 2 x length: each sample written twice, windows contiguous
-    int position_ = 0;
+    std::vector<double> taps_;  // time-reversed, so the output is a plain dot product
+    // The last `length` samples twice over (each sample written twice, so a window is contiguous):
+    // oldest first in history_, newest first in reversed_. The filter is linear-phase (symmetric
+    // taps), so the output pairs sample i with sample length-1-i: one multiply per pair.
+    std::vector<double> history_, reversed_;
+    int position_ = 0, reversedPosition_ = 0;
 };
 
 }  // namespace jawari

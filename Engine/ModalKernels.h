@@ -168,6 +168,23 @@ inline double dot(const double* __restrict x, const double* __restrict y, int M)
     return s;
 }
 
+// t . (x + y): a symmetric filter's output with the pairs of samples it weights equally.
+inline double pairedDot(const double* __restrict t, const double* __restrict x, const double* __restrict y, int M)
+{
+    alignas(64) double partial[kBlock] = {};
+    int p = 0;
+    for (; p + kBlock <= M; p += kBlock)
+    {
+#pragma omp simd aligned(partial : 64)
+        for (int k = 0; k < kBlock; ++k)
+            partial[k] += t[p + k] * (x[p + k] + y[p + k]);
+    }
+    double s = horizontalSum(partial);
+    for (; p < M; ++p)
+        s += t[p] * (x[p] + y[p]);
+    return s;
+}
+
 // y += c x
 inline void axpy(double c, const double* __restrict x, double* __restrict y, int M)
 {

@@ -617,6 +617,12 @@ void ModalSolver::advanceCompliance()
 {
     if (complianceW_.size() == 0)
         return;
+    if (P_ == 1)
+    {
+        deltaPrev_[0] = delta_[0];
+        delta_[0] = -complianceW_(0, 0) * slope_[0];
+        return;
+    }
     std::copy(delta_.begin(), delta_.end(), deltaPrev_.begin());
     std::fill(delta_.begin(), delta_.end(), 0.0);
     // delta = -C W G, column by column over the points that press (most do not, most of the time).
