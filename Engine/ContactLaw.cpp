@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace jawari
 {
@@ -177,12 +178,9 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         return sol;
     }
 
-    DividedSeries local;
+    std::optional<DividedSeries> local;  // built only when needed: constructing it costs a 0.5 KB clear
     if (series == nullptr || series->exponent != alpha)
-    {
-        local = dividedSeries(alpha);
-        series = &local;
-    }
+        series = &local.emplace(dividedSeries(alpha));
     // In contact at n+1: the penetration p = s - r is in (0, d]. The iterate is held as r, which
     // keeps its relative precision when it is far smaller than s. Every start below is at or right
     // of the root (p >= root) except the quadratic model's, and from the right Halley's and
