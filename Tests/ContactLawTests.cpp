@@ -54,8 +54,8 @@ TEST_CASE("the safeguarded Newton converges for K from 1e4 to 1e16 and alpha fro
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     int most = 0;
-    double worstResidual = 0.0;
-    long solves = 0;
+    double worstResidual = 0.0, worstPower = 0.0;
+    long solves = 0, powers = 0;
     for (double logK = 4.0; logK <= 16.0; logK += 1.0)
         for (double alpha : {1.0, 1.3, 1.5, 2.0, 3.0, 4.0})
             for (int i = 0; i < 400; ++i)
@@ -76,10 +76,23 @@ TEST_CASE("the safeguarded Newton converges for K from 1e4 to 1e16 and alpha fro
                 worstResidual = std::max(worstResidual, residual);
                 most = std::max(most, sol.iterations);
                 ++solves;
+                // The root's power handed to the solve two steps later (formed from D or from the
+                // solve's last pow by a series): p^alpha as pow gives it.
+                if (sol.penetration.xAlpha > 0.0)
+                {
+                    ++powers;
+                    REQUIRE(sol.penetration.x == s - sol.r);
+                    REQUIRE(sol.penetration.invX == Approx(1.0 / sol.penetration.x).epsilon(1e-15));
+                    const double exact = std::pow(sol.penetration.x, alpha);
+                    worstPower = std::max(worstPower, std::abs(sol.penetration.xAlpha - exact) / exact);
+                }
             }
-    INFO(solves << " solves, most iterations " << most << ", worst relative residual " << worstResidual);
+    INFO(solves << " solves, most iterations " << most << ", worst relative residual " << worstResidual << "; "
+                << powers << " root powers, worst relative error " << worstPower);
     CHECK(worstResidual < 1e-13);
     CHECK(most < 200);
+    CHECK(powers > 1000);
+    CHECK(worstPower < 1e-13);
 }
 
 TEST_CASE("the coupled P x P contact solve converges on a dense coupling")
