@@ -63,19 +63,12 @@ inline double polynomial16(const double* a, double x, double x2, double x4, doub
     return (q0 + q1 * x4) + (q2 + q3 * x4) * x8;
 }
 
-// A power x^alpha known during a solve (its latest pow), from which one within kReach follows by
-// the series a_k.
-struct Anchor
-{
-    double x = 0.0, invX = 0.0, xAlpha = 0.0;  // xAlpha = 0: none yet
-};
-
 // D and its derivatives at p = s - r > 0, with sAlpha = [s]_+^alpha and invS = 1/s. Near s, D is
 // a function of e = -r/s, so r keeps its full relative precision even where it is far smaller
 // than s. Away from s, p^alpha comes from the anchor's series where p is within reach of it, else
 // from a pow that becomes the anchor.
 Divided divided(const DividedSeries& series, double alpha, double s, double invS, double sAlpha, double r,
-                Anchor& anchor)
+                PowerAnchor& anchor)
 {
     if (s > 0.0)
     {
@@ -111,12 +104,35 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
 
 }  // namespace
 
+double powerOf(double s, double alpha, const KnownPower* known)
+{
+    if (!(s > 0.0))
+        return 0.0;
+    const double x = known != nullptr && known->xAlpha > 0.0 ? (s - known->x) * known->invX : 1.0;
+    if (std::abs(x) <= 1e-6)
+        // (1 + x)^alpha to second order: the error ~ x^3 <= 1e-18.
+        return known->xAlpha * (1.0 + x * alpha * (1.0 + 0.5 * x * (alpha - 1.0)));
+    return std::pow(s, alpha);
+}
+
+KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& law, double r)
+{
+    const double p = s - r;
+    if (!(p >= 0.5 * s && p > 0.0))
+        return {};
+    // p^beta = s^beta + D (p - s) with D = -beta G / K, so p^alpha = (s^beta - D r) / p.
+    const double D = -(law.exponent + 1.0) * slope / law.stiffness;
+    const double invP = 1.0 / p;
+    return {p, (sAlpha * s - D * r) * invP, invP};
+}
+
 ChordSlope chordSlope(const ContactLaw& law, double s, double r)
 {
     return chordSlope(law, dividedSeries(law.exponent), s, s > 0.0 ? std::pow(s, law.exponent) : 0.0, r);
 }
 
-ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r)
+ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
+                      PowerAnchor* anchor)
 {
     const double p = s - r;  // penetration at n+1
     if (s <= 0.0 && p <= 0.0)
@@ -125,8 +141,9 @@ ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double
     double D = 0.0, dD = 0.0;
     if (p > 0.0)
     {
-        Anchor none;
-        const Divided v = divided(series, law.exponent, s, s > 0.0 ? 1.0 / s : 0.0, sAlpha, r, none);
+        PowerAnchor none;
+        const Divided v =
+            divided(series, law.exponent, s, s > 0.0 ? 1.0 / s : 0.0, sAlpha, r, anchor != nullptr ? *anchor : none);
         D = v.D;
         dD = v.dD;
     }
@@ -155,16 +172,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     const double beta = alpha + 1.0;
     const double c = k * K / beta;
     const double d = s - b;
-    double sAlpha = 0.0;
-    if (s > 0.0)
-    {
-        const double x = known != nullptr && known->xAlpha > 0.0 ? (s - known->x) * known->invX : 1.0;
-        if (std::abs(x) <= 1e-6)
-            // (1 + x)^alpha to second order: the error ~ x^3 <= 1e-18.
-            sAlpha = known->xAlpha * (1.0 + x * alpha * (1.0 + 0.5 * x * (alpha - 1.0)));
-        else
-            sAlpha = std::pow(s, alpha);
-    }
+    const double sAlpha = powerOf(s, alpha, known);
     const double psiBefore = K / beta * sAlpha * std::max(s, 0.0);
     // At r = s the string just reaches the obstacle at n+1: phi(s) = s - k psi(s)/s - b = d - c s^alpha.
     if (d - c * sAlpha <= 0.0)
@@ -222,7 +230,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     const double invS = s > 0.0 ? 1.0 / s : 0.0;
 
     constexpr int maxIterations = 100;
-    Anchor anchor;
+    PowerAnchor anchor;
     Divided v = divided(*series, alpha, s, invS, sAlpha, r, anchor);
     for (int it = 1; it <= maxIterations; ++it)
     {
@@ -274,14 +282,12 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     sol.r = r;
     sol.slope = -K / beta * v.D;
     p = s - r;
-    const double invP = 1.0 / p;
     const double x = (p - anchor.x) * anchor.invX;
-    if (p >= 0.5 * s && p > 0.0)
-        sol.penetration = {p, (sAlpha * std::max(s, 0.0) - v.D * r) * invP, invP};
-    else if (p > 0.0 && anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach)
+    sol.penetration = rootPower(s, sAlpha, sol.slope, law, r);
+    if (sol.penetration.xAlpha == 0.0 && p > 0.0 && anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach)
     {
         const double x2 = x * x, x4 = x2 * x2;
-        sol.penetration = {p, anchor.xAlpha * polynomial16(series->a, x, x2, x4, x4 * x4), invP};
+        sol.penetration = {p, anchor.xAlpha * polynomial16(series->a, x, x2, x4, x4 * x4), 1.0 / p};
     }
     return sol;
 }

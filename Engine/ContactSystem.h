@@ -40,8 +40,8 @@ public:
     int solve(const double* s, const double* b, double* r, double* slope);
 
 private:
-    double residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi,
-                    bool withDerivative);
+    // phi = r + A G(r) - b, with G_ and dG_ written at r; returns |phi|_inf.
+    double residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi);
     void gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r);
 
     std::vector<ContactPoint> points_;
@@ -49,7 +49,8 @@ private:
     // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
     // one's p is this step's s (ContactLaw.h, KnownPower).
     std::vector<std::array<KnownPower, 2>> known_;
-    std::vector<double> sAlpha_;  // [s_j]_+^alpha of the coupled solve in progress
+    std::vector<double> sAlpha_;        // [s_j]_+^alpha of the coupled solve in progress
+    std::vector<PowerAnchor> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
     Eigen::MatrixXd A_;
     bool diagonal_ = true;
     Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;

@@ -132,3 +132,63 @@ TEST_CASE("the coupled P x P contact solve converges on a dense coupling")
     INFO("most Newton iterations " << most);
     CHECK(most <= 100);
 }
+
+TEST_CASE("the coupled solve with one point touching is exact whether or not its force pushes others on")
+{
+    // One point touches (at n-1 or with the contact-free prediction); the others start off the
+    // obstacle. Its force moves them through the coupling: where they stay off, the solve takes the
+    // one-point path; where they are pushed on, the coupled Newton. Either way r and every G(r),
+    // recomputed here from the law, solve r + A G(r) = b.
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const int P = 5;
+    int othersStayedOff = 0, othersPushedOn = 0;
+    for (int trial = 0; trial < 400; ++trial)
+    {
+        Eigen::MatrixXd Phi = Eigen::MatrixXd::Random(P, 40);
+        Eigen::VectorXd w = (Eigen::VectorXd::Random(P).array() + 1.5) * 1e-3;
+        const double k = std::pow(10.0, -11.0 + 2.0 * unit(rng));
+        const Eigen::MatrixXd A = k * Phi * Phi.transpose() * w.asDiagonal();
+        std::vector<ContactPoint> points(P);
+        for (auto& p : points)
+            p.law = {std::pow(10.0, 8.0 + 6.0 * std::abs(unit(rng))), 1.0 + 2.0 * std::abs(unit(rng))};
+        ContactSystem system;
+        system.prepare(points, A);
+        REQUIRE_FALSE(system.isDiagonal());
+        const int a = trial % P;
+        std::vector<double> s(P), b(P), r(P), G(P);
+        for (int j = 0; j < P; ++j)
+        {
+            if (j == a)
+            {
+                s[j] = 1e-5 * unit(rng);
+                b[j] = s[j] - 1e-5 * std::abs(unit(rng));  // in contact at n+1 without the force
+            }
+            else
+            {
+                // Off at n+1 without the force, by a margin from 1e-12 to 1e-6 m.
+                s[j] = -1e-6 * std::abs(unit(rng));
+                b[j] = s[j] + 1e-6 * std::pow(10.0, -6.0 * std::abs(unit(rng)));
+            }
+        }
+        system.solve(s.data(), b.data(), r.data(), G.data());
+        Eigen::VectorXd Gv(P);
+        int on = 0;
+        for (int j = 0; j < P; ++j)
+        {
+            Gv[j] = chordSlope(points[size_t(j)].law, s[size_t(j)], r[size_t(j)]).value;
+            CHECK(G[size_t(j)] == Approx(Gv[j]).epsilon(1e-12).margin(1e-300));
+            on += j != a && Gv[j] != 0.0;
+        }
+        (on > 0 ? othersPushedOn : othersStayedOff) += 1;
+        const Eigen::VectorXd residual =
+            Eigen::Map<Eigen::VectorXd>(r.data(), P) + A * Gv - Eigen::Map<Eigen::VectorXd>(b.data(), P);
+        const double scale =
+            Eigen::Map<Eigen::VectorXd>(b.data(), P).lpNorm<Eigen::Infinity>() + (A * Gv).lpNorm<Eigen::Infinity>();
+        INFO("trial " << trial);
+        CHECK(residual.lpNorm<Eigen::Infinity>() <= 1e-12 * scale);
+    }
+    INFO(othersStayedOff << " trials with the others off, " << othersPushedOn << " with some pushed on");
+    CHECK(othersStayedOff > 50);
+    CHECK(othersPushedOn > 50);
+}
