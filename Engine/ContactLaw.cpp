@@ -63,6 +63,17 @@ inline double polynomial16(const double* a, double x, double x2, double x4, doub
     return (q0 + q1 * x4) + (q2 + q3 * x4) * x8;
 }
 
+// p^alpha from the anchor's power by the series of (1 + x)^alpha, x = p/x_a - 1, where |x| is
+// within reach; else 0.
+double anchoredPower(const DividedSeries& series, const PowerAnchor& anchor, double p)
+{
+    const double x = (p - anchor.x) * anchor.invX;
+    if (!(anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach))
+        return 0.0;
+    const double x2 = x * x, x4 = x2 * x2;
+    return anchor.xAlpha * polynomial16(series.a, x, x2, x4, x4 * x4);
+}
+
 // D and its derivatives at p = s - r > 0, with sAlpha = [s]_+^alpha and invS = 1/s. Near s, D is
 // a function of e = -r/s, so r keeps its full relative precision even where it is far smaller
 // than s. Away from s, p^alpha comes from the anchor's series where p is within reach of it, else
@@ -85,14 +96,8 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
     }
     // Away from s (or with s <= 0) nothing cancels: p^beta - s^beta loses at most a few ulps.
     const double p = s - r, invH = -1.0 / r;  // h = p - s = -r
-    double pAlpha = 0.0;
-    const double x = (p - anchor.x) * anchor.invX;
-    if (anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach)
-    {
-        const double x2 = x * x, x4 = x2 * x2;
-        pAlpha = anchor.xAlpha * polynomial16(series.a, x, x2, x4, x4 * x4);
-    }
-    else
+    double pAlpha = anchoredPower(series, anchor, p);
+    if (pAlpha == 0.0)
     {
         pAlpha = std::pow(p, alpha);
         anchor = {p, 1.0 / p, pAlpha};
@@ -282,13 +287,10 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     sol.r = r;
     sol.slope = -K / beta * v.D;
     p = s - r;
-    const double x = (p - anchor.x) * anchor.invX;
     sol.penetration = rootPower(s, sAlpha, sol.slope, law, r);
-    if (sol.penetration.xAlpha == 0.0 && p > 0.0 && anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach)
-    {
-        const double x2 = x * x, x4 = x2 * x2;
-        sol.penetration = {p, anchor.xAlpha * polynomial16(series->a, x, x2, x4, x4 * x4), 1.0 / p};
-    }
+    if (sol.penetration.xAlpha == 0.0 && p > 0.0)
+        if (const double pAlpha = anchoredPower(*series, anchor, p); pAlpha > 0.0)
+            sol.penetration = {p, pAlpha, 1.0 / p};
     return sol;
 }
 
