@@ -65,7 +65,7 @@ inline double polynomial16(const double* a, double x, double x2, double x4, doub
 
 // p^alpha from the anchor's power by the series of (1 + x)^alpha, x = p/x_a - 1, where |x| is
 // within reach; else 0.
-double anchoredPower(const DividedSeries& series, const PowerAnchor& anchor, double p)
+double anchoredPower(const DividedSeries& series, const KnownPower& anchor, double p)
 {
     const double x = (p - anchor.x) * anchor.invX;
     if (!(anchor.xAlpha > 0.0 && std::abs(x) <= DividedSeries::kReach))
@@ -79,7 +79,7 @@ double anchoredPower(const DividedSeries& series, const PowerAnchor& anchor, dou
 // than s. Away from s, p^alpha comes from the anchor's series where p is within reach of it, else
 // from a pow that becomes the anchor.
 Divided divided(const DividedSeries& series, double alpha, double s, double invS, double sAlpha, double r,
-                PowerAnchor& anchor)
+                KnownPower& anchor)
 {
     if (s > 0.0)
     {
@@ -100,7 +100,7 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
     if (pAlpha == 0.0)
     {
         pAlpha = std::pow(p, alpha);
-        anchor = {p, 1.0 / p, pAlpha};
+        anchor = {p, pAlpha, 1.0 / p};
     }
     const double D = (pAlpha * p - sAlpha * std::max(s, 0.0)) * invH;
     const double dD = ((alpha + 1.0) * pAlpha - D) * invH;
@@ -137,7 +137,7 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double r)
 }
 
 ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
-                      PowerAnchor* anchor)
+                      KnownPower* anchor)
 {
     const double p = s - r;  // penetration at n+1
     if (s <= 0.0 && p <= 0.0)
@@ -146,7 +146,7 @@ ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double
     double D = 0.0, dD = 0.0;
     if (p > 0.0)
     {
-        PowerAnchor none;
+        KnownPower none;
         const Divided v =
             divided(series, law.exponent, s, s > 0.0 ? 1.0 / s : 0.0, sAlpha, r, anchor != nullptr ? *anchor : none);
         D = v.D;
@@ -235,7 +235,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     const double invS = s > 0.0 ? 1.0 / s : 0.0;
 
     constexpr int maxIterations = 100;
-    PowerAnchor anchor;
+    KnownPower anchor;
     Divided v = divided(*series, alpha, s, invS, sAlpha, r, anchor);
     for (int it = 1; it <= maxIterations; ++it)
     {

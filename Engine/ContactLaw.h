@@ -49,30 +49,26 @@ struct ChordSlope
     double derivative = 0.0;
 };
 ChordSlope chordSlope(const ContactLaw& law, double s, double r);
-// A power x^alpha made by a pow during a solve; a penetration within DividedSeries::kReach of x
-// takes its power from it by the series a_k instead of another pow.
-struct PowerAnchor
-{
-    double x = 0.0, invX = 0.0, xAlpha = 0.0;  // xAlpha = 0: none yet
-};
-// The same with the law's series and sAlpha = [s]_+^alpha given (both fixed during a solve), and
-// optionally an anchor the evaluation uses and renews (kept per point by the caller).
-ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
-                      PowerAnchor* anchor = nullptr);
-
-// A power x^alpha known at some x > 0 (an earlier solve's penetration): the contact point's s two
-// steps later is that step's p to ~1e-12, so s^alpha follows from it without a pow.
+// A power x^alpha known at some x > 0, used two ways:
+//  - an earlier solve's penetration: the contact point's s two steps later is that step's p to
+//    ~1e-12, so s^alpha follows from it without a pow (powerOf);
+//  - an anchor, the latest pow made during a solve: a penetration within DividedSeries::kReach of x
+//    takes its power from it by the series a_k instead of another pow.
 struct KnownPower
 {
     double x = 0.0;
     double xAlpha = 0.0;  // x^alpha, or 0 if unknown
     double invX = 0.0;    // 1/x
 };
+// The same with the law's series and sAlpha = [s]_+^alpha given (both fixed during a solve), and
+// optionally an anchor the evaluation uses and renews (kept per point by the caller).
+ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
+                      KnownPower* anchor = nullptr);
 
 // [s]_+^alpha, from `known` without a pow where s is within 1e-6 of its x (optional).
 double powerOf(double s, double alpha, const KnownPower* known);
 // The penetration p = s - r at the root and p^alpha from the chord slope there (p^beta = s^beta +
-// D (p - s), D = -beta G / K), where p >= s/2 (else nothing cancels-free: xAlpha = 0).
+// D (p - s), D = -beta G / K), where p >= s/2 (elsewhere that would cancel: xAlpha = 0).
 KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& law, double r);
 
 // Solves  r + k G(r) = b  (k > 0): the scalar contact equation of DESIGN.md section 2.
@@ -84,7 +80,8 @@ KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& la
 // descend to it without passing it. Started at or right of the root where a bound allows (the
 // tangent at s, a linear bound on D, a power balance on a new contact), else from Phi's quadratic
 // model about s, it takes about two evaluations of D, each one pow at most (none near s, where
-// the series serves); Newton in log p takes the steps from a start far off.
+// the series serves, nor within DividedSeries::kReach of the solve's last pow, its anchor); Newton
+// in log p takes the steps from a start far off.
 struct ScalarContactSolution
 {
     double r = 0.0;

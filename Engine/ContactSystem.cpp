@@ -66,7 +66,7 @@ void ContactSystem::reset()
     std::fill(previousContact_.begin(), previousContact_.end(), 0);
     std::fill(olderContact_.begin(), olderContact_.end(), 0);
     std::fill(known_.begin(), known_.end(), std::array<KnownPower, 2>{});
-    std::fill(anchors_.begin(), anchors_.end(), PowerAnchor{});
+    std::fill(anchors_.begin(), anchors_.end(), KnownPower{});
 }
 
 double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi)

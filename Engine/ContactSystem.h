@@ -49,8 +49,8 @@ private:
     // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
     // one's p is this step's s (ContactLaw.h, KnownPower).
     std::vector<std::array<KnownPower, 2>> known_;
-    std::vector<double> sAlpha_;        // [s_j]_+^alpha of the coupled solve in progress
-    std::vector<PowerAnchor> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
+    std::vector<double> sAlpha_;       // [s_j]_+^alpha of the coupled solve in progress
+    std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
     Eigen::MatrixXd A_;
     bool diagonal_ = true;
     Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;

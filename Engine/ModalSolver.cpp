@@ -617,14 +617,12 @@ void ModalSolver::advanceCompliance()
 {
     if (complianceW_.size() == 0)
         return;
-    if (P_ == 1)
+    // An element loop, not std::copy/fill: P is mostly 1, where their calls cost more than the work.
+    for (int j = 0; j < P_; ++j)
     {
-        deltaPrev_[0] = delta_[0];
-        delta_[0] = -complianceW_(0, 0) * slope_[0];
-        return;
+        deltaPrev_[j] = delta_[j];
+        delta_[j] = 0.0;
     }
-    std::copy(delta_.begin(), delta_.end(), deltaPrev_.begin());
-    std::fill(delta_.begin(), delta_.end(), 0.0);
     // delta = -C W G, column by column over the points that press (most do not, most of the time).
     for (int i = 0; i < P_; ++i)
         if (slope_[i] != 0.0)
