@@ -1,0 +1,159 @@
+// Bit-identical renders: a restructuring of the engine must not change one bit of what it plays.
+// Each case renders a fixed scene or MIDI-like script and hashes the samples (FNV-1a over the
+// doubles' bytes). The stored hashes were taken before the engine was split into its physics,
+// realtime and offline libraries; a refactor that keeps the arithmetic keeps them.
+//
+// Bit identity holds for one compiler and one instruction set, so the hashes are stored for the
+// build they were taken with (GCC 12, -march=native on an AVX-512 core, this project's CI
+// machine). Another build prints its hashes and checks nothing. The reference's DST path is not
+// among them: FFTW's measured plans differ from run to run in their last bits (ReferenceTests
+// compares it with the projection path instead).
+
+#include "Instrument.h"
+#include "OfflineRender.h"
+#include "Scene.h"
+#include "TestSupport.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace jawari;
+
+namespace
+{
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12 && defined(__AVX512F__)
+constexpr bool kHashesApply = true;
+#else
+constexpr bool kHashesApply = false;
+#endif
+
+struct Fnv1a
+{
+    uint64_t value = 1469598103934665603ull;
+    void add(const void* data, size_t bytes)
+    {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < bytes; ++i)
+            value = (value ^ p[i]) * 1099511628211ull;
+    }
+    void add(const std::vector<double>& v) { add(v.data(), v.size() * sizeof(double)); }
+};
+
+std::string hex(uint64_t v)
+{
+    char text[19];
+    std::snprintf(text, sizeof text, "0x%016llx", static_cast<unsigned long long>(v));
+    return text;
+}
+
+void checkHash(const char* what, uint64_t actual, uint64_t expected)
+{
+    INFO(what << ": " << hex(actual) << ", stored " << hex(expected));
+    if (!kHashesApply)
+    {
+        WARN(what << ": " << hex(actual) << " (hashes are stored for GCC 12 with AVX-512 only)");
+        return;
+    }
+    CHECK(actual == expected);
+}
+
+uint64_t hashRender(const Scene& scene)
+{
+    RenderOptions options;
+    options.logEnergy = true;
+    const RenderResult r = renderScene(scene, options);
+    Fnv1a h;
+    h.add(r.output);
+    for (const auto& e : r.energy)
+    {
+        h.add(&e.energy, sizeof e.energy);
+        h.add(&e.contactEnergy, sizeof e.contactEnergy);
+        h.add(&e.newtonIterations, sizeof e.newtonIterations);
+    }
+    return h.value;
+}
+
+Scene paperScene(const char* name, Method method, double seconds)
+{
+    Scene scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
+    scene.simulation.durationSeconds = seconds;
+    if (method != Method::reference)
+    {
+        scene.simulation.method = method;
+        scene.simulation.modes.reset();
+        scene.simulation.rateHz.reset();
+    }
+    return scene;
+}
+
+// A short script of what a player does: notes, a steal, a bend, the pedal, releases, the drone.
+uint64_t hashInstrument(ObstacleShape shape)
+{
+    InstrumentStructure structure;
+    structure.quality = 0;
+    structure.shape = shape;
+    structure.obstaclePosition = shape == ObstacleShape::parabola ? 0.03 : 0.006;
+    structure.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+    auto pack = buildVoicePack(structure);
+    Instrument instrument;
+    instrument.install(pack.get(), nullptr);
+    InstrumentControls controls;
+    controls.obstacleHeight = shape == ObstacleShape::frets ? -0.25e-3 : 0.0;
+    controls.drone = true;
+    controls.droneTempo = 200;
+    instrument.setControls(controls);
+
+    Fnv1a h;
+    std::vector<float> left(256), right(256);
+    for (int block = 0; block < 160; ++block)
+    {
+        if (block % 12 == 0)
+            instrument.noteOn(43 + (block / 12) % 9 * 2, 0.4 + 0.05 * (block % 7));
+        if (block == 30)
+            instrument.sustain(true);
+        if (block % 17 == 5)
+            instrument.noteOff(43 + (block / 17) % 9 * 2);
+        if (block == 70)
+            instrument.sustain(false);
+        if (block >= 80 && block < 100)
+            instrument.pitchBend((block - 80) / 20.0);
+        if (block == 120)
+            instrument.allNotesOff();
+        instrument.render(left.data(), right.data(), 256);
+        h.add(left.data(), left.size() * sizeof(float));
+        h.add(right.data(), right.size() * sizeof(float));
+    }
+    return h.value;
+}
+}  // namespace
+
+TEST_CASE("The reference renders both paper scenes bit for bit as stored", "[checksum]")
+{
+    checkHash("reference, paper-centre", hashRender(paperScene("paper-centre.json", Method::reference, 0.04)),
+              0x46b895d3fb78d96full);
+    checkHash("reference, paper-tanpura", hashRender(paperScene("paper-tanpura.json", Method::reference, 0.04)),
+              0x3a7916736ff626eeull);
+}
+
+TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every method", "[checksum]")
+{
+    checkHash("voice, paper-centre", hashRender(paperScene("paper-centre.json", Method::realtime, 0.3)), 0x9455285cc7bb82a1ull);
+    checkHash("voice, paper-tanpura", hashRender(paperScene("paper-tanpura.json", Method::realtime, 0.3)), 0x529574b1e7ea31bdull);
+    checkHash("quadratised, paper-tanpura", hashRender(paperScene("paper-tanpura.json", Method::quadratised, 0.2)),
+              0x657e3ddefb5dbdf2ull);
+    Scene soft = paperScene("paper-centre.json", Method::penalty, 0.2);
+    soft.obstacles[0].law = {1e7, 1.0};
+    checkHash("penalty, soft centre", hashRender(soft), 0xfc6bd2bfb1fbc4bfull);
+}
+
+TEST_CASE("The instrument plays a script bit for bit as stored, on each obstacle shape", "[checksum]")
+{
+    checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0x520ce0229a2a2a94ull);
+    checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola), 0x982773f9a9c60905ull);
+    checkHash("instrument, frets", hashInstrument(ObstacleShape::frets), 0x3af6e032e7c0e335ull);
+}
