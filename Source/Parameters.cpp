@@ -145,7 +145,7 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneFirst = static_cast<int>(std::lround(get(22)));
     c.droneTempo = get(23);
     c.humanise = get(24);
-    c.droneVelocity = get(25);
+    c.droneStrength = get(25);
     return c;
 }
 

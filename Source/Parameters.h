@@ -3,7 +3,7 @@
 // the engine's InstrumentStructure (rebuilt off the audio thread) and InstrumentControls (applied
 // on the audio thread, smoothed).
 
-#include "Instrument.h"
+#include "realtime/Instrument.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 

@@ -6,8 +6,8 @@
 // pickup points, inharmonicity, quality, method, release) and builds a new VoicePack for them,
 // handed to the audio thread through LockFreeExchange and freed back on the builder thread.
 
-#include "Instrument.h"
-#include "LockFreeExchange.h"
+#include "realtime/Instrument.h"
+#include "realtime/LockFreeExchange.h"
 #include "Parameters.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>

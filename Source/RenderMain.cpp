@@ -1,4 +1,4 @@
-// jawari-render: renders a jawari-scene/1 file to a WAV (DESIGN.md section 7).
+// jawari-render: renders a jawari-scene/1 file to a WAV (docs/scenes.md).
 //
 //   jawari-render SCENE.json -o OUT.wav [--method reference] [--modes M] [--rate HZ]
 //                 [--duration S] [--output-rate HZ] [--raw] [--energy FILE.csv] [--quiet]
@@ -6,8 +6,8 @@
 // Exit status: 0 done, 2 bad scene or arguments (the message names the field), 1 anything else.
 // Files are written to a temporary beside the target and moved into place only when complete.
 
-#include "OfflineRender.h"
-#include "Scene.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
 
 #include <juce_audio_formats/juce_audio_formats.h>
 #include <juce_core/juce_core.h>
@@ -177,24 +177,29 @@ int run(int argc, char* argv[])
         juce::File::getCurrentWorkingDirectory().getChildFile(positional[0]).getFullPathName().toStdString());
     if (method)
     {
-        const auto m = jawari::methodFromName(method->toStdString());
-        if (!m)
-            throw UsageError("--method: unknown method '" + method->toStdString()
-                             + "' (expected: reference, realtime, quadratised, penalty)");
+        jawari::Simulation chosen = scene.simulation;
+        if (!jawari::setMethodByName(chosen, method->toStdString()))
+        {
+            std::string names = "reference";
+            for (const auto& m : jawari::kContactMethods)
+                names += std::string(", ") + m.sceneName;
+            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: " + names + ")");
+        }
         // The scene's modes and rate were chosen for its own method: switching between the
         // reference and the voice drops them (the new method's defaults or automatic choice apply)
         // unless the command line gives them too.
-        const bool switchesSolver = jawari::runsVoice(*m) != jawari::runsVoice(scene.simulation.method);
+        const bool switchesSolver = chosen.reference != scene.simulation.reference;
         if (switchesSolver && !quiet && (scene.simulation.modes || scene.simulation.rateHz) && !(modes && rate))
             std::fprintf(stderr,
                          "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
-                         jawari::methodName(*m), jawari::methodName(scene.simulation.method));
+                         jawari::methodName(chosen), jawari::methodName(scene.simulation));
         if (switchesSolver)
         {
             scene.simulation.modes.reset();
             scene.simulation.rateHz.reset();
         }
-        scene.simulation.method = *m;
+        scene.simulation.reference = chosen.reference;
+        scene.simulation.contact = chosen.contact;
     }
     if (modes)
     {
@@ -266,7 +271,7 @@ int run(int argc, char* argv[])
         std::printf(
             "%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
             "max penetration %.3g m\n",
-            jawari::methodName(scene.simulation.method), st.modes, st.internalRateHz,
+            jawari::methodName(scene.simulation), st.modes, st.internalRateHz,
             st.transformPath ? "DST-I" : "projection", st.steps, st.cpuSeconds,
             scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9), st.newtonIterationsMax,
             st.maxPenetrationMetres);

@@ -9,10 +9,10 @@
 // among them: FFTW's measured plans differ from run to run in their last bits (ReferenceTests
 // compares it with the projection path instead).
 
-#include "Instrument.h"
-#include "OfflineRender.h"
-#include "Scene.h"
 #include "TestSupport.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
+#include "realtime/Instrument.h"
 
 #include <catch2/catch.hpp>
 
@@ -78,16 +78,21 @@ uint64_t hashRender(const Scene& scene)
     return h.value;
 }
 
-Scene paperScene(const char* name, Method method, double seconds)
+Scene paperScene(const char* name, double seconds)
 {
     Scene scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
     scene.simulation.durationSeconds = seconds;
-    if (method != Method::reference)
-    {
-        scene.simulation.method = method;
-        scene.simulation.modes.reset();
-        scene.simulation.rateHz.reset();
-    }
+    return scene;
+}
+
+// The scene played by the voice with the given contact method, M and R chosen automatically.
+Scene voiceScene(const char* name, ContactMethod method, double seconds)
+{
+    Scene scene = paperScene(name, seconds);
+    scene.simulation.reference = false;
+    scene.simulation.contact = method;
+    scene.simulation.modes.reset();
+    scene.simulation.rateHz.reset();
     return scene;
 }
 
@@ -134,19 +139,20 @@ uint64_t hashInstrument(ObstacleShape shape)
 
 TEST_CASE("The reference renders both paper scenes bit for bit as stored", "[checksum]")
 {
-    checkHash("reference, paper-centre", hashRender(paperScene("paper-centre.json", Method::reference, 0.04)),
-              0x46b895d3fb78d96full);
-    checkHash("reference, paper-tanpura", hashRender(paperScene("paper-tanpura.json", Method::reference, 0.04)),
-              0x3a7916736ff626eeull);
+    checkHash("reference, paper-centre", hashRender(paperScene("paper-centre.json", 0.04)), 0x46b895d3fb78d96full);
+    checkHash("reference, paper-tanpura", hashRender(paperScene("paper-tanpura.json", 0.04)), 0x3a7916736ff626eeull);
 }
 
 TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every method", "[checksum]")
 {
-    checkHash("voice, paper-centre", hashRender(paperScene("paper-centre.json", Method::realtime, 0.3)), 0x9455285cc7bb82a1ull);
-    checkHash("voice, paper-tanpura", hashRender(paperScene("paper-tanpura.json", Method::realtime, 0.3)), 0x529574b1e7ea31bdull);
-    checkHash("quadratised, paper-tanpura", hashRender(paperScene("paper-tanpura.json", Method::quadratised, 0.2)),
-              0x657e3ddefb5dbdf2ull);
-    Scene soft = paperScene("paper-centre.json", Method::penalty, 0.2);
+    checkHash("voice, paper-centre", hashRender(voiceScene("paper-centre.json", ContactMethod::energyConserving, 0.3)),
+              0x9455285cc7bb82a1ull);
+    checkHash("voice, paper-tanpura",
+              hashRender(voiceScene("paper-tanpura.json", ContactMethod::energyConserving, 0.3)),
+              0x529574b1e7ea31bdull);
+    checkHash("quadratised, paper-tanpura",
+              hashRender(voiceScene("paper-tanpura.json", ContactMethod::quadratised, 0.2)), 0x657e3ddefb5dbdf2ull);
+    Scene soft = voiceScene("paper-centre.json", ContactMethod::penalty, 0.2);
     soft.obstacles[0].law = {1e7, 1.0};
     checkHash("penalty, soft centre", hashRender(soft), 0xfc6bd2bfb1fbc4bfull);
 }

@@ -1,7 +1,7 @@
-// The regularised contact law, its discrete gradient and the safeguarded Newton (DESIGN.md section 2).
+// The regularised contact law, its discrete gradient and the safeguarded Newton (docs/design.md section 2).
 
-#include "ContactLaw.h"
-#include "ContactSystem.h"
+#include "physics/ContactLaw.h"
+#include "physics/ContactSystem.h"
 
 #include <catch2/catch.hpp>
 

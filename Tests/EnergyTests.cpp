@@ -1,8 +1,8 @@
-// The discrete energy H^{n+1/2} of DESIGN.md section 2 (paper eq. 8): conserved without losses to
+// The discrete energy H^{n+1/2} of docs/design.md section 2 (paper eq. 8): conserved without losses to
 // the solver's tolerance, and dissipated exactly as the balance says with them.
 
-#include "ModalSolver.h"
 #include "TestSupport.h"
+#include "physics/ModalSolver.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,11 +1,11 @@
 // The playable instrument (Engine/Instrument.h): retuning, pitch, polyphony and stealing, sustain,
 // the tanpura drone, structure swaps while sounding.
 
-#include "Analysis.h"
-#include "Denormals.h"
-#include "Instrument.h"
 #include "TestSupport.h"
-#include "Voice.h"
+#include "offline/Analysis.h"
+#include "realtime/Denormals.h"
+#include "realtime/Instrument.h"
+#include "realtime/Voice.h"
 
 #include <catch2/catch.hpp>
 

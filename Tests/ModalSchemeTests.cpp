@@ -1,9 +1,9 @@
-// The string's modal table and the exact per-mode update (DESIGN.md sections 1 and 2).
+// The string's modal table and the exact per-mode update (docs/design.md sections 1 and 2).
 
-#include "ExactOscillator.h"
-#include "ModalSolver.h"
-#include "StringModel.h"
 #include "TestSupport.h"
+#include "physics/ExactOscillator.h"
+#include "physics/ModalSolver.h"
+#include "physics/StringModel.h"
 
 #include <catch2/catch.hpp>
 

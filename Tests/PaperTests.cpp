@@ -1,8 +1,8 @@
-// The paper's two experiments (DESIGN.md section 3) run by the reference solver.
+// The paper's two experiments (docs/design.md section 3) run by the reference solver.
 
-#include "Analysis.h"
-#include "OfflineRender.h"
 #include "TestSupport.h"
+#include "offline/Analysis.h"
+#include "offline/OfflineRender.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
 // What the renderer reads off the string, and scenes with several obstacles at once.
 
-#include "Analysis.h"
-#include "OfflineRender.h"
 #include "TestSupport.h"
+#include "offline/Analysis.h"
+#include "offline/OfflineRender.h"
 
 #include <catch2/catch.hpp>
 

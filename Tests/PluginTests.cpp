@@ -4,13 +4,13 @@
 // and the robustness checks of setStateInformation and parameter extremes.
 
 #include "AllocationCounter.h"
-#include "Analysis.h"
-#include "OfflineRender.h"
 #include "PluginEditor.h"
 #include "PluginProcessor.h"
 #include "Presets.h"
-#include "Scene.h"
-#include "Voice.h"
+#include "offline/Analysis.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
+#include "realtime/Voice.h"
 
 #include <catch2/catch.hpp>
 

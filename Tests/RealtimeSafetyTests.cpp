@@ -1,9 +1,9 @@
 // The audio thread never allocates: every allocation made while a test holds the guard is counted
 // (global operator new replaced in this test binary only).
 
-#include "Scene.h"
 #include "TestSupport.h"
-#include "Voice.h"
+#include "offline/Scene.h"
+#include "realtime/Voice.h"
 
 #include <catch2/catch.hpp>
 
@@ -27,7 +27,7 @@ TEST_CASE("the allocation counter sees allocations")
     CHECK(seen == 2);
 }
 
-TEST_CASE("Voice process and pluck and release and takeStateFrom never allocate")
+TEST_CASE("Voice process and pluck and release and takeMotionFrom never allocate")
 {
     // Every contact path the voice can take: one point (paired), a sampled profile (decoupled
     // scalar solves), and two close off-grid points (the coupled P x P Newton with Eigen's LU).
@@ -54,19 +54,19 @@ TEST_CASE("Voice process and pluck and release and takeStateFrom never allocate"
         int maxIterations = 0;
         {
             CountAllocations guard;
-            voice.pluck(1.0);
+            voice.pluckWithPulse(1.0);
             for (int b = 0; b < 200; ++b)
             {
                 voice.process(block.data(), 256);
                 maxIterations = std::max(maxIterations, voice.takeMaxIterations());
                 if (b == 50)
-                    voice.pluck(0.7);  // again while sounding
+                    voice.pluckWithPulse(0.7);  // again while sounding
                 if (b == 120)
                     voice.release();
                 if (b == 150)
                 {
-                    voice.unrelease();
-                    other.takeStateFrom(voice);
+                    voice.cancelRelease();
+                    other.takeMotionFrom(voice);
                     other.process(block.data(), 256);
                 }
             }
@@ -80,7 +80,7 @@ TEST_CASE("Voice process and pluck and release and takeStateFrom never allocate"
     }
 }
 
-#include "LockFreeExchange.h"
+#include "realtime/LockFreeExchange.h"
 
 #include <thread>
 
@@ -106,13 +106,13 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
         Voice* voice = exchange.take();
         {
             CountAllocations guard;  // this thread only
-            voice->pluck(1.0);
+            voice->pluckWithPulse(1.0);
             for (int b = 0; b < 3000; ++b)
             {
                 Voice* previous = nullptr;
                 if (Voice* fresh = exchange.take(&previous))
                 {
-                    fresh->takeStateFrom(*previous);  // previous is still alive until retire()
+                    fresh->takeMotionFrom(*previous);  // previous is still alive until retire()
                     exchange.retire();
                     voice = fresh;
                     ++taken;
@@ -121,7 +121,7 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
                 for (double v : block)
                     finite = finite && std::isfinite(v);
                 if (b % 500 == 0)
-                    voice->pluck(0.8);
+                    voice->pluckWithPulse(0.8);
             }
             audioAllocations = allocations;
         }
@@ -144,7 +144,7 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
     CHECK(freed == taken);  // every voice the audio thread replaced came back and was freed here
 }
 
-#include "Instrument.h"
+#include "realtime/Instrument.h"
 
 TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
 {

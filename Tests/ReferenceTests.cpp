@@ -1,9 +1,9 @@
-// The reference solver's two contact paths (DESIGN.md section 2): projection (few points) and
+// The reference solver's two contact paths (docs/design.md section 2): projection (few points) and
 // DST-I (many points) must agree to rounding on the grid.
 
-#include "ModalSolver.h"
-#include "OfflineRender.h"
 #include "TestSupport.h"
+#include "offline/OfflineRender.h"
+#include "physics/ModalSolver.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // The output resampler (libsoxr): aligned in time and flat in the audio band.
 
-#include "Resampler.h"
+#include "offline/Resampler.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
 // A corpus of malformed and extreme scenes (Tests/scenes/corpus, expectations in
 // corpus-expectations.json): each gives a clear error naming its field, or a finite, bounded render.
 
-#include "OfflineRender.h"
-#include "Scene.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

@@ -1,8 +1,8 @@
-// jawari-scene/1 (DESIGN.md section 7): defaults, the paper scenes, and bad scenes rejected with
+// jawari-scene/1 (docs/scenes.md): defaults, the paper scenes, and bad scenes rejected with
 // the field named.
 
-#include "Scene.h"
 #include "TestSupport.h"
+#include "offline/Scene.h"
 
 #include <catch2/catch.hpp>
 
@@ -21,7 +21,7 @@ TEST_CASE("a scene with only its format gets the paper's defaults")
     CHECK(s.obstacles.empty());
     CHECK(s.excitation.position == 0.501);
     CHECK(s.pickup.position == 0.992);
-    CHECK(s.simulation.method == Method::reference);
+    CHECK(s.simulation.reference);
     CHECK_FALSE(s.simulation.rateHz.has_value());
     CHECK(s.simulation.outputRateHz == 48000);
 }

@@ -1,9 +1,10 @@
 #pragma once
 // Small helpers shared by the tests.
 
-#include "ModalSolver.h"
-#include "Scene.h"
-#include "Voice.h"
+#include "offline/DstTransform.h"
+#include "offline/Scene.h"
+#include "physics/ModalSolver.h"
+#include "realtime/Voice.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,7 @@ inline std::string resource(const std::string& name)
     return std::string(JAWARI_RESOURCES_DIR) + "/" + name;
 }
 
-// The paper's string (DESIGN.md section 3) with a chosen damping law.
+// The paper's string (docs/design.md section 3) with a chosen damping law.
 inline StringParameters paperString(DampingLaw law = DampingLaw::valette)
 {
     StringParameters s;
@@ -36,7 +37,7 @@ inline ModalSolverConfig gridConfig(const StringParameters& string, int M, doubl
     c.timeStep = 1.0 / rateHz;
     c.modes = buildModalTable(string, M);
     c.contacts = contactPointsOnGrid(obstacles, string.lengthMetres, M + 1);
-    c.path = path;
+    chooseContactPath(c, path);
     c.pickupWeights.resize(M);
     for (int p = 1; p <= M; ++p)
         c.pickupWeights[p - 1] = modeShape(string.lengthMetres, p, 0.992);

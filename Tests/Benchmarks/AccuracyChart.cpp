@@ -1,4 +1,4 @@
-// Speed against accuracy (DESIGN.md section 4): every configuration's output against the
+// Speed against accuracy (docs/design.md section 4): every configuration's output against the
 // reference solver's for the same scene, both at 48 kHz and low-passed at 20 kHz:
 //   relL2 over 0-100 ms, LSD over 0-1 s (STFT 2048, bins to 20 kHz, floor 80 dB below the
 //   reference's peak), and the real-time factor (simulated seconds per CPU second, one core),
@@ -6,10 +6,10 @@
 //
 //   jawari-accuracy [out.csv] [--quick]
 
-#include "Analysis.h"
-#include "OfflineRender.h"
-#include "Quality.h"
-#include "Scene.h"
+#include "offline/Analysis.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
+#include "realtime/Quality.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -40,13 +40,13 @@ int main(int argc, char** argv)
     struct Variant
     {
         const char* name;
-        Method method;
+        ContactMethod method;
         bool compliance;
     };
-    const Variant variants[] = {{"newton", Method::realtime, true},
-                                {"newton-plain", Method::realtime, false},
-                                {"quadratised", Method::quadratised, true},
-                                {"penalty", Method::penalty, true}};
+    const Variant variants[] = {{"newton", ContactMethod::energyConserving, true},
+                                {"newton-plain", ContactMethod::energyConserving, false},
+                                {"quadratised", ContactMethod::quadratised, true},
+                                {"penalty", ContactMethod::penalty, true}};
 
     struct Config
     {
@@ -82,7 +82,7 @@ int main(int argc, char** argv)
         {
             const auto vq = resolveQuality(q, base.string, base.simulation.outputRateHz);
             auto scene = base;
-            scene.simulation.method = Method::realtime;
+            scene.simulation.reference = false;
             scene.simulation.modes = vq.modes;
             scene.simulation.rateHz = double(vq.oversampling) * scene.simulation.outputRateHz;
             const auto r = renderScene(scene);
@@ -104,7 +104,8 @@ int main(int argc, char** argv)
                 if (!isNewton && (c.oversampling == 5 || c.oversampling == 6))
                     continue;
                 auto scene = base;
-                scene.simulation.method = variant.method;
+                scene.simulation.reference = false;
+                scene.simulation.contact = variant.method;
                 scene.simulation.residualCompliance = variant.compliance;
                 scene.simulation.modes = c.modes;
                 scene.simulation.rateHz = double(c.oversampling) * scene.simulation.outputRateHz;

@@ -1,4 +1,4 @@
-// How the voice's cost scales (DESIGN.md section 5: cost ~ R x (M + M P)): real-time factor of the
+// How the voice's cost scales (docs/design.md section 5: cost ~ R x (M + M P)): real-time factor of the
 // default voice (energy-conserving Newton, residual compliance) at 384 kHz for 1 s of the paper
 // string, against M with one point obstacle, and against the number of contact points P (a flat
 // profile 10 um below the string covering P nodes of the M = 200 grid) at M = 200.
@@ -6,10 +6,10 @@
 //
 //   jawari-scaling [out.csv]
 
-#include "CpuClock.h"
-#include "Denormals.h"
-#include "Scene.h"
-#include "Voice.h"
+#include "offline/CpuClock.h"
+#include "offline/Scene.h"
+#include "realtime/Denormals.h"
+#include "realtime/Voice.h"
 
 #include <cstdio>
 #include <string>

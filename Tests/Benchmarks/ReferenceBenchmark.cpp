@@ -3,13 +3,13 @@
 //
 //   jawari-bench [seconds]
 
-#include "CpuClock.h"
-#include "Denormals.h"
-#include "ModalKernels.h"
-#include "OfflineRender.h"
-#include "Quality.h"
-#include "Scene.h"
-#include "Voice.h"
+#include "offline/CpuClock.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
+#include "physics/ModalKernels.h"
+#include "realtime/Denormals.h"
+#include "realtime/Quality.h"
+#include "realtime/Voice.h"
 
 #include <cmath>
 #include <vector>
@@ -138,7 +138,7 @@ BlockLoad playBlocks(const VoiceConfig& config)
     for (int b = 0; b < blocks; ++b)
     {
         if (b % (24000 / block) == 0)
-            voice.pluck(1.0);
+            voice.pluckWithPulse(1.0);
         const double start = threadCpuSeconds();
         voice.process(out.data(), block);
         const double spent = threadCpuSeconds() - start;

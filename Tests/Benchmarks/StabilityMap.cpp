@@ -1,4 +1,4 @@
-// Where each contact method fails (DESIGN.md section 4): K from 1e6 to 1e16, internal rate from
+// Where each contact method fails (docs/design.md section 4): K from 1e6 to 1e16, internal rate from
 // 1x to 64x of 48 kHz, alpha in {1, 1.3, 2, 3}; the paper-centre string and obstacle with 100
 // modes, 0.1 s. The solver runs bare (no muting guard), and a run fails by
 //   nan          a non-finite state,
@@ -8,9 +8,9 @@
 //
 //   jawari-stability [out.csv]
 
-#include "ModalSolver.h"
-#include "Scene.h"
-#include "Voice.h"
+#include "offline/Scene.h"
+#include "physics/ModalSolver.h"
+#include "realtime/Voice.h"
 
 #include <cmath>
 #include <cstdio>

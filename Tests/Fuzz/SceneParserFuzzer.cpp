@@ -3,7 +3,7 @@
 //
 //   bash tools/fuzz.sh [seconds]
 
-#include "Scene.h"
+#include "offline/Scene.h"
 
 #include <cmath>
 #include <cstddef>

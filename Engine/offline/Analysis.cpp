@@ -1,0 +1,186 @@
+#include "offline/Analysis.h"
+
+#include "offline/FftwPlanner.h"
+
+#include <fftw3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+namespace jawari
+{
+namespace
+{
+struct RealFft
+{
+    explicit RealFft(size_t n)
+        : size(n)
+    {
+        time = fftw_alloc_real(n);
+        freq = fftw_alloc_complex(n / 2 + 1);
+        std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+        forward = fftw_plan_dft_r2c_1d(int(n), time, freq, FFTW_ESTIMATE);
+        backward = fftw_plan_dft_c2r_1d(int(n), freq, time, FFTW_ESTIMATE);
+    }
+    ~RealFft()
+    {
+        {
+            std::lock_guard<std::mutex> lock(fftwPlannerMutex());
+            fftw_destroy_plan(forward);
+            fftw_destroy_plan(backward);
+        }
+        fftw_free(time);
+        fftw_free(freq);
+    }
+    RealFft(const RealFft&) = delete;
+    RealFft& operator=(const RealFft&) = delete;
+    size_t size;
+    double* time;
+    fftw_complex* freq;
+    fftw_plan forward, backward;
+};
+
+double hann(size_t i, size_t n)
+{
+    return 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * double(i) / double(n));
+}
+}  // namespace
+
+std::vector<double> lowpass(const std::vector<double>& signal, double rateHz, double cutoffHz)
+{
+    const size_t n = signal.size();
+    if (n == 0)
+        return {};
+    RealFft fft(n);
+    std::copy(signal.begin(), signal.end(), fft.time);
+    fftw_execute(fft.forward);
+    for (size_t k = 0; k <= n / 2; ++k)
+        if (double(k) * rateHz / double(n) > cutoffHz)
+            fft.freq[k][0] = fft.freq[k][1] = 0.0;
+    fftw_execute(fft.backward);
+    std::vector<double> out(fft.time, fft.time + n);
+    for (double& v : out)
+        v /= double(n);
+    return out;
+}
+
+double relativeL2(const std::vector<double>& y, const std::vector<double>& ref, size_t count)
+{
+    count = std::min({count, y.size(), ref.size()});
+    double num = 0.0, den = 0.0;
+    for (size_t i = 0; i < count; ++i)
+    {
+        num += (y[i] - ref[i]) * (y[i] - ref[i]);
+        den += ref[i] * ref[i];
+    }
+    return den > 0.0 ? std::sqrt(num / den) : std::sqrt(num);
+}
+
+namespace
+{
+// One plan serves every frame of a measurement (planning per frame is slow, and two plans of the
+// same size need not round identically).
+std::vector<double> powerSpectrumWith(RealFft& fft, const double* segment, size_t count)
+{
+    const size_t fftSize = fft.size;
+    std::fill(fft.time, fft.time + fftSize, 0.0);
+    for (size_t i = 0; i < std::min(count, fftSize); ++i)
+        fft.time[i] = segment[i] * hann(i, count);
+    fftw_execute(fft.forward);
+    std::vector<double> p(fftSize / 2 + 1);
+    for (size_t k = 0; k < p.size(); ++k)
+        p[k] = fft.freq[k][0] * fft.freq[k][0] + fft.freq[k][1] * fft.freq[k][1];
+    return p;
+}
+}  // namespace
+
+std::vector<double> powerSpectrum(const double* segment, size_t count, size_t fftSize)
+{
+    RealFft fft(fftSize);
+    return powerSpectrumWith(fft, segment, count);
+}
+
+double logSpectralDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz, double seconds,
+                           double maxHz, double floorDb, int fftSize)
+{
+    const size_t n = static_cast<size_t>(fftSize);
+    const size_t hop = n / 4;
+    const size_t length = std::min({y.size(), ref.size(), static_cast<size_t>(std::llround(seconds * rateHz))});
+    if (length < n)
+        throw std::invalid_argument("log-spectral distance needs at least one full frame");
+    const size_t bins = std::min(n / 2, static_cast<size_t>(std::floor(maxHz * double(n) / rateHz)));
+
+    std::vector<std::vector<double>> refFrames, yFrames;
+    double peak = 0.0;
+    RealFft fft(n);
+    for (size_t start = 0; start + n <= length; start += hop)
+    {
+        refFrames.push_back(powerSpectrumWith(fft, ref.data() + start, n));
+        yFrames.push_back(powerSpectrumWith(fft, y.data() + start, n));
+        for (size_t k = 0; k <= bins; ++k)
+            peak = std::max(peak, refFrames.back()[k]);
+    }
+    const double floorPower = peak * std::pow(10.0, -floorDb / 10.0);
+    double total = 0.0;
+    for (size_t f = 0; f < refFrames.size(); ++f)
+    {
+        double sum = 0.0;
+        for (size_t k = 0; k <= bins; ++k)
+        {
+            // The level difference as the log of a ratio: exact 0 for equal levels (a difference
+            // of two logs would not be, once the compiler fuses it into an FMA).
+            const double d =
+                10.0 * std::log10(std::max(yFrames[f][k], floorPower) / std::max(refFrames[f][k], floorPower));
+            sum += d * d;
+        }
+        total += std::sqrt(sum / double(bins + 1));
+    }
+    return total / double(refFrames.size());
+}
+
+double peakFrequency(const std::vector<double>& signal, double rateHz, double lowHz, double highHz, size_t begin,
+                     size_t count)
+{
+    if (count == 0)
+        count = signal.size() - begin;
+    size_t fftSize = 1 << 20;
+    while (fftSize < 4 * count)
+        fftSize *= 2;
+    const auto p = powerSpectrum(signal.data() + begin, count, fftSize);
+    const double binHz = rateHz / double(fftSize);
+    const size_t lo = static_cast<size_t>(std::ceil(lowHz / binHz));
+    const size_t hi = std::min(p.size() - 2, static_cast<size_t>(std::floor(highHz / binHz)));
+    size_t best = lo;
+    for (size_t k = lo; k <= hi; ++k)
+        if (p[k] > p[best])
+            best = k;
+    const double a = std::log(p[best - 1] + 1e-300), b = std::log(p[best] + 1e-300), c = std::log(p[best + 1] + 1e-300);
+    const double denom = a - 2.0 * b + c;
+    const double offset = denom != 0.0 ? 0.5 * (a - c) / denom : 0.0;
+    return (double(best) + offset) * binHz;
+}
+
+double spectralCentroid(const std::vector<double>& signal, double rateHz, size_t begin, size_t count, double lowHz,
+                        double highHz)
+{
+    size_t fftSize = 1;
+    while (fftSize < count)
+        fftSize *= 2;
+    const auto p = powerSpectrum(signal.data() + begin, count, fftSize);
+    const double binHz = rateHz / double(fftSize);
+    double num = 0.0, den = 0.0;
+    for (size_t k = 0; k < p.size(); ++k)
+    {
+        const double f = double(k) * binHz;
+        if (f < lowHz || f > highHz)
+            continue;
+        num += f * p[k];
+        den += p[k];
+    }
+    return den > 0.0 ? num / den : 0.0;
+}
+
+}  // namespace jawari

@@ -1,0 +1,261 @@
+#include "offline/OfflineRender.h"
+
+#include "offline/AutomaticQuality.h"
+#include "offline/CpuClock.h"
+#include "offline/DstTransform.h"
+#include "offline/Resampler.h"
+#include "physics/ModalSolver.h"
+#include "realtime/Denormals.h"
+#include "realtime/Voice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace jawari
+{
+namespace
+{
+
+struct SolverSetup
+{
+    ModalSolverConfig config;
+    std::vector<double> initial;
+    double rateHz = 0.0;
+};
+
+// The reference (docs/design.md section 2): M = N - 1 modes, distributed obstacles sampled at every
+// grid node x_i = i L/N with weight dx, point obstacles at their own positions.
+SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
+{
+    SolverSetup s;
+    const int M = scene.simulation.modes.value_or(kReferenceModes);
+    s.rateHz = scene.simulation.rateHz.value_or(kReferenceRateHz);
+    s.config =
+        stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
+    chooseContactPath(s.config, path.value_or(ContactPath::automatic));
+    s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
+    return s;
+}
+
+// Steps the solver, handing each internal sample of the pickup quantity to `sink`, and each
+// step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt.
+template <typename Sink, typename AfterStep>
+void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderStats& stats,
+         const RenderOptions& options, Sink&& sink, AfterStep&& afterStep)
+{
+    ScopedFlushDenormals noDenormals;
+    const double dt = solver.timeStep();
+    // The pluck starts from rest, so the velocity at n = 0 is 0 exactly.
+    double yPrev = 0.0;
+    double y = solver.pickup();
+    const double start = threadCpuSeconds();
+    const long long progressEvery = 1 << 16;
+    for (long long n = 0; n < steps; ++n)
+    {
+        solver.step();
+        const double yNext = solver.pickup();
+        double sample = y;
+        if (quantity == PickupQuantity::velocity)
+            sample = n == 0 ? 0.0 : (yNext - yPrev) / (2.0 * dt);
+        sink(sample);
+        yPrev = y;
+        y = yNext;
+        const int it = solver.lastIterations();
+        stats.newtonIterationsTotal += it;
+        stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, it);
+        if (solver.contactCount() > 0)
+            stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, solver.lastMaxPenetration());
+        afterStep(n, it);
+        if (options.progress && (n % progressEvery) == 0 && !options.progress(double(n) / double(steps)))
+            throw std::runtime_error("render cancelled");
+    }
+    stats.cpuSeconds += threadCpuSeconds() - start;
+    stats.steps += steps;
+    if (options.progress)
+        options.progress(1.0);
+}
+
+// What every render reports about its solver before it runs.
+void describe(ModalSolver& solver, double rateHz, RenderStats& stats)
+{
+    stats.modes = solver.modeCount();
+    stats.activeModes = solver.activeModeCount();
+    stats.internalRateHz = rateHz;
+    stats.transformPath = solver.usesTransform();
+    const auto H = solver.energy();
+    stats.initialEnergy = H.total;
+    stats.initialContactEnergy = H.contact;
+}
+
+VoiceConfig voiceConfigFor(const Scene& scene)
+{
+    const auto q = automaticQuality(scene);
+    VoiceConfig v;
+    v.string = scene.string;
+    // Only what the string can reach (AutomaticQuality.h, reachAt): an obstacle beyond it never touches.
+    for (const auto& o : scene.obstacles)
+        if (obstacleReachable(scene, o))
+            v.obstacles.push_back(o);
+    v.excitationPosition = scene.excitation.position;
+    v.pickupPosition = scene.pickup.position;
+    v.quantity = scene.pickup.quantity;
+    v.modes = q.modes;
+    v.oversampling = q.oversampling;
+    v.hostRateHz = scene.simulation.outputRateHz;
+    v.residualCompliance = scene.simulation.residualCompliance;
+    if (scene.simulation.contact == ContactMethod::energyConserving)
+        v.reach = [scene](double x) { return reachAt(scene, x); };
+    v.method = scene.simulation.contact;
+    return v;
+}
+
+// Why a voice render stopped: the explicit methods lose stability at stiff contact (a higher rate
+// or the default method helps); the default never gains energy, so its guard tripping is a fault.
+std::string lostStabilityMessage(const Simulation& simulation, long restarts)
+{
+    const std::string what = std::string("the ") + methodName(simulation)
+                             + " method's output ran beyond what its energy allows (" + std::to_string(restarts)
+                             + " restarts from rest)";
+    if (simulation.contact == ContactMethod::energyConserving)
+        return what + "; this method never gains energy, so this is a fault in Jawari: please report the scene";
+    return what + ": it lost stability; try a higher rate, or the default method ("
+           + contactMethodName(ContactMethod::energyConserving).sceneName + ")";
+}
+
+// The voice, plucked from the scene's triangular shape at rest like the reference, its decimator's
+// latency removed so output sample m is the string at t = m / output rate.
+RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
+{
+    Voice voice(voiceConfigFor(scene));
+    voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
+    RenderResult result;
+    result.outputRateHz = scene.simulation.outputRateHz;
+    auto& stats = result.stats;
+    describe(voice.solver(), voice.internalRateHz(), stats);
+    const size_t count = static_cast<size_t>(std::llround(scene.simulation.durationSeconds * result.outputRateHz));
+    const size_t latency = static_cast<size_t>(voice.latencySamples());
+    std::vector<double> raw(count + latency);
+    const size_t block = 256;
+    ScopedFlushDenormals noDenormals;
+    const double start = threadCpuSeconds();
+    for (size_t m = 0; m < raw.size(); m += block)
+    {
+        const size_t n = std::min(block, raw.size() - m);
+        for (size_t i = 0; i < n; ++i)
+        {
+            voice.process(raw.data() + m + i, 1);
+            const long iterations = voice.takeIterationCount();
+            const int most = voice.takeMaxIterations();
+            stats.newtonIterationsTotal += iterations;
+            stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, most);
+            if (options.logEnergy && m + i < count)
+            {
+                const auto H = voice.solver().energy();
+                result.energy.push_back(
+                    {double(m + i + 1) / result.outputRateHz, H.total, H.contact, iterations, most});
+            }
+        }
+        stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, voice.takeMaxPenetration());
+        if (options.progress && !options.progress(double(m) / double(raw.size())))
+            throw std::runtime_error("render cancelled");
+    }
+    stats.cpuSeconds = threadCpuSeconds() - start;
+    stats.steps = static_cast<long long>(raw.size()) * voice.oversampling();
+    if (voice.blowUps() > 0)
+        throw std::runtime_error(lostStabilityMessage(scene.simulation, voice.blowUps()));
+    result.output.assign(raw.begin() + static_cast<std::ptrdiff_t>(latency), raw.end());
+    for (double v : result.output)
+        if (!std::isfinite(v))
+            throw std::runtime_error("the simulation produced a non-finite sample");
+    return result;
+}
+
+}  // namespace
+
+std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options,
+                                   RenderStats* statsOut)
+{
+    validateScene(scene);
+    auto setup = referenceSetup(scene, options.path);
+    ModalSolver solver(setup.config);
+    solver.setInitialDisplacement(setup.initial);
+    RenderStats stats;
+    describe(solver, setup.rateHz, stats);
+    std::vector<double> out;
+    out.reserve(static_cast<size_t>(steps));
+    run(
+        solver, scene.pickup.quantity, steps, stats, options, [&](double v) { out.push_back(v); },
+        [](long long, int) {});
+    if (statsOut)
+        *statsOut = stats;
+    return out;
+}
+
+RenderResult renderScene(const Scene& scene, const RenderOptions& options)
+{
+    validateScene(scene);
+    if (!scene.simulation.reference)
+        return renderRealtime(scene, options);
+    auto setup = referenceSetup(scene, options.path);
+    ModalSolver solver(setup.config);
+    solver.setInitialDisplacement(setup.initial);
+
+    RenderResult result;
+    result.outputRateHz = scene.simulation.outputRateHz;
+    auto& stats = result.stats;
+    describe(solver, setup.rateHz, stats);
+
+    const double duration = scene.simulation.durationSeconds;
+    const long long steps = std::llround(duration * setup.rateHz);
+    const size_t outputCount = static_cast<size_t>(std::llround(duration * result.outputRateHz));
+    result.output.reserve(outputCount + 16);
+
+    Resampler resampler(setup.rateHz, result.outputRateHz);
+    std::vector<double> chunk;
+    chunk.reserve(4096);
+    auto sink = [&](double v) {
+        chunk.push_back(v);
+        if (chunk.size() == 4096)
+        {
+            resampler.push(chunk.data(), chunk.size(), result.output);
+            chunk.clear();
+        }
+    };
+
+    // Energy log: H^{n+1/2} after the step that produced internal sample n = round(m rate / outRate).
+    long nextLogged = 0;
+    long iterationsSince = 0;
+    int iterationsMaxSince = 0;
+    auto afterStep = [&](long long n, int iterations) {
+        if (!options.logEnergy)
+            return;
+        iterationsSince += iterations;
+        iterationsMaxSince = std::max(iterationsMaxSince, iterations);
+        if (static_cast<size_t>(nextLogged) >= outputCount)
+            return;
+        const long long target = std::llround(double(nextLogged) * setup.rateHz / result.outputRateHz);
+        if (n < target)
+            return;
+        const auto H = solver.energy();
+        result.energy.push_back(
+            {(double(n) + 0.5) / setup.rateHz, H.total, H.contact, iterationsSince, iterationsMaxSince});
+        iterationsSince = 0;
+        iterationsMaxSince = 0;
+        ++nextLogged;
+    };
+    if (options.logEnergy)
+        result.energy.reserve(outputCount);
+
+    run(solver, scene.pickup.quantity, steps, stats, options, sink, afterStep);
+    resampler.push(chunk.data(), chunk.size(), result.output);
+    resampler.finish(result.output);
+    result.output.resize(outputCount, 0.0);
+    for (double v : result.output)
+        if (!std::isfinite(v))
+            throw std::runtime_error("the simulation produced a non-finite sample");
+    return result;
+}
+
+}  // namespace jawari

@@ -1,0 +1,63 @@
+#pragma once
+// Runs a scene offline: builds the solver its method asks for, plucks, steps at the internal rate,
+// reads the pickup quantity, resamples to the output rate, and logs the energy. OFF.
+
+#include "offline/DstTransform.h"
+#include "offline/Scene.h"
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace jawari
+{
+
+struct EnergySample
+{
+    double timeSeconds = 0.0;    // (n - 1/2) dt: H^{n-1/2} lives between steps
+    double energy = 0.0;         // H, J
+    double contactEnergy = 0.0;  // its contact part, J
+    long newtonIterations = 0;   // summed over the internal steps since the previous sample
+    int newtonMaxPerStep = 0;
+};
+
+struct RenderStats
+{
+    long long steps = 0;
+    long long newtonIterationsTotal = 0;
+    int newtonIterationsMax = 0;
+    double maxPenetrationMetres = 0.0;
+    int modes = 0;
+    int activeModes = 0;  // modes actually stepped (ModalSolver::activeModeCount)
+    double internalRateHz = 0.0;
+    bool transformPath = false;
+    double cpuSeconds = 0.0;
+    // At t = 0: the string's energy and the part of it stored in obstacles the initial shape
+    // already presses into (large when a scene starts the string inside an obstacle).
+    double initialEnergy = 0.0;
+    double initialContactEnergy = 0.0;
+};
+
+struct RenderResult
+{
+    std::vector<double> output;  // pickup quantity at the output rate, SI units
+    int outputRateHz = 48000;
+    std::vector<EnergySample> energy;  // one per output sample when asked for
+    RenderStats stats;
+};
+
+struct RenderOptions
+{
+    bool logEnergy = false;
+    std::optional<ContactPath> path;  // force the reference's contact path (tests)
+    // Called now and then with the fraction done; return false to cancel (throws).
+    std::function<bool(double)> progress;
+};
+
+RenderResult renderScene(const Scene& scene, const RenderOptions& options = {});
+
+// The internal-rate signal and its solver, without resampling (tests compare solvers with it).
+std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options = {},
+                                   RenderStats* stats = nullptr);
+
+}  // namespace jawari

@@ -1,0 +1,469 @@
+#include "offline/Scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <set>
+#include <sstream>
+
+namespace jawari
+{
+namespace
+{
+using json = nlohmann::json;
+
+std::string show(double v)
+{
+    std::ostringstream s;
+    s.precision(12);
+    s << v;
+    return s.str();
+}
+
+std::string typeName(const json& j)
+{
+    return j.type_name();
+}
+
+// A JSON object being read at a path: takes the fields it knows, then rejects the rest.
+class ObjectReader
+{
+public:
+    ObjectReader(const json& object, std::string path)
+        : object_(object)
+        , path_(std::move(path))
+    {
+        if (!object_.is_object())
+            throw SceneError(path_.empty() ? "(top level)" : path_, "must be an object, got " + typeName(object_));
+    }
+
+    std::string at(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+    bool has(const std::string& key) const { return object_.contains(key); }
+    const json& raw(const std::string& key)
+    {
+        seen_.insert(key);
+        return object_.at(key);
+    }
+
+    // Optional number: stays `fallback` when absent. Must be finite.
+    double number(const std::string& key, double fallback)
+    {
+        if (!has(key))
+            return fallback;
+        const json& v = raw(key);
+        if (!v.is_number())
+            throw SceneError(at(key), "must be a number, got " + typeName(v));
+        const double d = v.get<double>();
+        if (!std::isfinite(d))
+            throw SceneError(at(key), "must be finite");
+        return d;
+    }
+    double positive(const std::string& key, double fallback)
+    {
+        const double d = number(key, fallback);
+        if (!(d > 0.0))
+            throw SceneError(at(key), "must be > 0 (got " + show(d) + ")");
+        return d;
+    }
+    double nonNegative(const std::string& key, double fallback)
+    {
+        const double d = number(key, fallback);
+        if (!(d >= 0.0))
+            throw SceneError(at(key), "must be >= 0 (got " + show(d) + ")");
+        return d;
+    }
+    std::optional<long long> integer(const std::string& key)
+    {
+        if (!has(key))
+            return std::nullopt;
+        const json& v = raw(key);
+        if (v.is_number_integer())
+            return v.get<long long>();
+        if (v.is_number_float())
+        {
+            const double d = v.get<double>();
+            if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
+                return static_cast<long long>(d);
+        }
+        throw SceneError(at(key),
+                         "must be a whole number, got " + (v.is_number() ? show(v.get<double>()) : typeName(v)));
+    }
+    std::string string(const std::string& key, const std::string& fallback, std::initializer_list<const char*> allowed)
+    {
+        return string(key, fallback, std::vector<const char*>(allowed));
+    }
+    std::string string(const std::string& key, const std::string& fallback, const std::vector<const char*>& allowed)
+    {
+        if (!has(key))
+            return fallback;
+        const json& v = raw(key);
+        if (!v.is_string())
+            throw SceneError(at(key), "must be a string, got " + typeName(v));
+        const auto s = v.get<std::string>();
+        std::string list;
+        for (const char* a : allowed)
+        {
+            if (s == a)
+                return s;
+            list += list.empty() ? std::string("'") + a + "'" : std::string(", '") + a + "'";
+        }
+        throw SceneError(at(key), "unknown value '" + s + "' (expected one of " + list + ")");
+    }
+    std::vector<double> numbers(const std::string& key)
+    {
+        const json& v = raw(key);
+        if (!v.is_array())
+            throw SceneError(at(key), "must be an array of numbers, got " + typeName(v));
+        std::vector<double> out;
+        for (size_t i = 0; i < v.size(); ++i)
+        {
+            const std::string here = at(key) + "[" + std::to_string(i) + "]";
+            if (!v[i].is_number())
+                throw SceneError(here, "must be a number, got " + typeName(v[i]));
+            const double d = v[i].get<double>();
+            if (!std::isfinite(d))
+                throw SceneError(here, "must be finite");
+            out.push_back(d);
+        }
+        return out;
+    }
+
+    void rejectUnknown() const
+    {
+        for (auto it = object_.begin(); it != object_.end(); ++it)
+            if (!seen_.count(it.key()) && !known_.count(it.key()))
+                throw SceneError(at(it.key()), "unknown field");
+    }
+    void allow(std::initializer_list<const char*> keys)
+    {
+        for (const char* k : keys)
+            known_.insert(k);
+    }
+
+private:
+    const json& object_;
+    std::string path_;
+    std::set<std::string> seen_;
+    std::set<std::string> known_;
+};
+
+ContactLaw readContactLaw(ObjectReader& r)
+{
+    ContactLaw law;
+    law.stiffness = r.positive("stiffness", law.stiffness);
+    law.exponent = r.number("exponent", law.exponent);
+    if (!(law.exponent >= 1.0 && law.exponent <= 10.0))
+        throw SceneError(r.at("exponent"), "must be between 1 and 10 (got " + show(law.exponent) + ")");
+    return law;
+}
+
+void requireOnString(const std::string& path, double x, double L)
+{
+    if (!(x > 0.0 && x < L))
+        throw SceneError(path, "must lie on the string, strictly between 0 and length " + show(L) + " m (got " + show(x)
+                                   + ")");
+}
+
+void readString(const json& j, Scene& scene)
+{
+    ObjectReader r(j, "string");
+    auto& s = scene.string;
+    s.lengthMetres = r.positive("length", s.lengthMetres);
+    s.tensionNewtons = r.positive("tension", s.tensionNewtons);
+    s.linearDensity = r.positive("linear_density", s.linearDensity);
+    s.diameterMetres = r.nonNegative("diameter", s.diameterMetres);
+    s.inharmonicity = r.nonNegative("inharmonicity", s.inharmonicity);
+    if (r.has("damping"))
+    {
+        ObjectReader d(r.raw("damping"), "string.damping");
+        auto& dp = s.damping;
+        const auto law = d.string("law", "valette", {"valette", "none", "constant"});
+        dp.law = law == "none" ? DampingLaw::none : law == "constant" ? DampingLaw::constant : DampingLaw::valette;
+        dp.etaAir = d.nonNegative("eta_air", dp.etaAir);
+        dp.rhoAir = d.nonNegative("rho_air", dp.rhoAir);
+        dp.deltaVe = d.nonNegative("delta_ve", dp.deltaVe);
+        dp.qTeInv = d.nonNegative("q_te_inv", dp.qTeInv);
+        if (d.has("sigma") && dp.law != DampingLaw::constant)
+            throw SceneError(d.at("sigma"), "is only used with law 'constant'");
+        dp.sigma = d.nonNegative("sigma", dp.sigma);
+        d.rejectUnknown();
+    }
+    if (r.has("modes"))
+    {
+        const json& modes = r.raw("modes");
+        if (!modes.is_array())
+            throw SceneError("string.modes", "must be an array, got " + typeName(modes));
+        std::set<long long> numbers;
+        for (size_t i = 0; i < modes.size(); ++i)
+        {
+            const std::string path = "string.modes[" + std::to_string(i) + "]";
+            ObjectReader m(modes[i], path);
+            ModeOverride o;
+            const auto n = m.integer("n");
+            if (!n)
+                throw SceneError(m.at("n"), "is required (the mode number, from 1)");
+            if (*n < 1 || *n > kMaxModes)
+                throw SceneError(m.at("n"), "must be between 1 and " + std::to_string(kMaxModes) + " (got "
+                                                + std::to_string(*n) + ")");
+            if (!numbers.insert(*n).second)
+                throw SceneError(m.at("n"), "mode " + std::to_string(*n) + " is given twice");
+            o.number = static_cast<int>(*n);
+            if (m.has("frequency"))
+                o.frequencyHz = m.positive("frequency", 0.0);
+            if (m.has("sigma"))
+                o.sigma = m.nonNegative("sigma", 0.0);
+            if (!o.frequencyHz && !o.sigma)
+                throw SceneError(path, "needs a frequency or a sigma to override");
+            m.rejectUnknown();
+            s.modeOverrides.push_back(o);
+        }
+    }
+    r.rejectUnknown();
+}
+
+Obstacle readObstacle(const json& j, const std::string& path, double L)
+{
+    ObjectReader r(j, path);
+    Obstacle ob;
+    const auto type = r.string("type", "point", {"point", "profile", "parabola"});
+    ob.law = readContactLaw(r);
+    if (type == "point")
+    {
+        ob.type = ObstacleType::point;
+        ob.position = r.number("position", ob.position);
+        requireOnString(r.at("position"), ob.position, L);
+        ob.height = r.number("height", ob.height);
+        ob.width = r.positive("width", ob.width);
+    }
+    else if (type == "parabola")
+    {
+        ob.type = ObstacleType::parabola;
+        ob.position = r.number("position", 0.003);
+        ob.height = r.number("height", 0.0);
+        ob.width = r.positive("width", 0.006);
+        ob.curvature = r.nonNegative("curvature", 1.0);
+        if (!(ob.supportBegin() >= 0.0 && ob.supportEnd() <= L))
+            throw SceneError(r.at("width"), "the parabola [position - width/2, position + width/2] = ["
+                                                + show(ob.supportBegin()) + ", " + show(ob.supportEnd())
+                                                + "] m must lie on the string [0, " + show(L) + "]");
+    }
+    else
+    {
+        ob.type = ObstacleType::profile;
+        if (!r.has("x"))
+            throw SceneError(r.at("x"), "is required for a profile");
+        if (!r.has("height"))
+            throw SceneError(r.at("height"), "is required for a profile (an array of heights)");
+        ob.profileX = r.numbers("x");
+        ob.profileHeight = r.numbers("height");
+        if (ob.profileX.size() < 2)
+            throw SceneError(r.at("x"), "needs at least 2 points");
+        if (ob.profileX.size() != ob.profileHeight.size())
+            throw SceneError(r.at("height"), "must have as many entries as x (" + std::to_string(ob.profileX.size())
+                                                 + "), got " + std::to_string(ob.profileHeight.size()));
+        for (size_t i = 0; i < ob.profileX.size(); ++i)
+        {
+            const std::string here = r.at("x") + "[" + std::to_string(i) + "]";
+            if (!(ob.profileX[i] >= 0.0 && ob.profileX[i] <= L))
+                throw SceneError(here,
+                                 "must lie on the string [0, " + show(L) + "] m (got " + show(ob.profileX[i]) + ")");
+            if (i > 0 && !(ob.profileX[i] > ob.profileX[i - 1]))
+                throw SceneError(here, "must be greater than the previous x (x must increase strictly)");
+        }
+    }
+    r.rejectUnknown();
+    return ob;
+}
+
+}  // namespace
+
+const char* methodName(const Simulation& simulation)
+{
+    return simulation.reference ? "reference" : contactMethodName(simulation.contact).sceneName;
+}
+
+bool setMethodByName(Simulation& simulation, const std::string& name)
+{
+    if (name == "reference")
+    {
+        simulation.reference = true;
+        simulation.contact = ContactMethod::energyConserving;
+        return true;
+    }
+    const auto contact = contactMethodFromSceneName(name);
+    if (!contact)
+        return false;
+    simulation.reference = false;
+    simulation.contact = *contact;
+    return true;
+}
+
+const char* quantityName(PickupQuantity q)
+{
+    switch (q)
+    {
+        case PickupQuantity::displacement: return "displacement";
+        case PickupQuantity::velocity: return "velocity";
+        case PickupQuantity::force: return "force";
+    }
+    return "displacement";
+}
+
+const char* quantityUnit(PickupQuantity q)
+{
+    switch (q)
+    {
+        case PickupQuantity::displacement: return "m";
+        case PickupQuantity::velocity: return "m/s";
+        case PickupQuantity::force: return "N";
+    }
+    return "m";
+}
+
+void validateScene(const Scene& scene)
+{
+    const auto& sim = scene.simulation;
+    const double L = scene.string.lengthMetres;
+    if (sim.rateHz && !(std::isfinite(*sim.rateHz) && *sim.rateHz > 0.0))
+        throw SceneError("simulation.rate", "must be a finite rate > 0 Hz");
+    if (sim.modes && (*sim.modes < 1 || *sim.modes > kMaxModes))
+        throw SceneError("simulation.modes", "must be between 1 and " + std::to_string(kMaxModes) + " (got "
+                                                 + std::to_string(*sim.modes) + ")");
+    if (!(std::isfinite(sim.durationSeconds) && sim.durationSeconds > 0.0
+          && sim.durationSeconds <= kMaxDurationSeconds))
+        throw SceneError("simulation.duration", "must be > 0 and at most " + show(kMaxDurationSeconds) + " s (got "
+                                                    + show(sim.durationSeconds) + ")");
+    if (sim.outputRateHz < 8000 || sim.outputRateHz > 384000)
+        throw SceneError("simulation.output_rate",
+                         "must be between 8000 and 384000 Hz (got " + std::to_string(sim.outputRateHz) + ")");
+    if (!sim.reference && sim.rateHz)
+    {
+        const double ratio = *sim.rateHz / sim.outputRateHz;
+        if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1 || std::round(ratio) > 256)
+            throw SceneError("simulation.rate",
+                             "the voice's methods run at a whole multiple (1 to 256) of the output rate "
+                                 + std::to_string(sim.outputRateHz) + " Hz (got " + show(*sim.rateHz) + " Hz)");
+    }
+    const double rate = sim.rateHz.value_or(!sim.reference ? sim.outputRateHz : kReferenceRateHz);
+    if (rate < sim.outputRateHz)
+        throw SceneError("simulation.rate", "the internal rate " + show(rate) + " Hz must be at least the output rate "
+                                                + std::to_string(sim.outputRateHz) + " Hz");
+    if (rate * sim.durationSeconds > 1e13)
+        throw SceneError("simulation.duration", "rate x duration is more than 1e13 steps");
+    const int modes = sim.modes.value_or(kReferenceModes);
+    for (size_t i = 0; i < scene.string.modeOverrides.size(); ++i)
+        if (scene.string.modeOverrides[i].number > modes)
+            throw SceneError("string.modes[" + std::to_string(i) + "].n",
+                             "mode " + std::to_string(scene.string.modeOverrides[i].number)
+                                 + " is above the simulated modes (" + std::to_string(modes) + ")");
+    requireOnString("excitation.position", scene.excitation.position, L);
+    requireOnString("pickup.position", scene.pickup.position, L);
+    for (size_t i = 0; i < scene.obstacles.size(); ++i)
+    {
+        const auto& ob = scene.obstacles[i];
+        const std::string path = "obstacles[" + std::to_string(i) + "]";
+        if (ob.type == ObstacleType::point)
+            requireOnString(path + ".position", ob.position, L);
+        else if (ob.supportEnd() > L || ob.supportBegin() < 0.0)
+            throw SceneError(path, "lies partly off the string (length " + show(L) + " m)");
+    }
+}
+
+Scene parseScene(const std::string& jsonText)
+{
+    json root;
+    try
+    {
+        root = json::parse(jsonText);
+    }
+    catch (const json::exception& e)  // parse errors, and numbers too large for a double
+    {
+        throw SceneError("(json)", std::string("malformed JSON: ") + e.what());
+    }
+    ObjectReader top(root, "");
+    if (!top.has("format"))
+        throw SceneError("format", "is required and must be \"jawari-scene/1\"");
+    top.string("format", "", {"jawari-scene/1"});
+
+    Scene scene;
+    if (top.has("string"))
+        readString(top.raw("string"), scene);
+    const double L = scene.string.lengthMetres;
+
+    if (top.has("obstacles"))
+    {
+        const json& obs = top.raw("obstacles");
+        if (!obs.is_array())
+            throw SceneError("obstacles", "must be an array, got " + typeName(obs));
+        for (size_t i = 0; i < obs.size(); ++i)
+            scene.obstacles.push_back(readObstacle(obs[i], "obstacles[" + std::to_string(i) + "]", L));
+    }
+    if (top.has("excitation"))
+    {
+        ObjectReader r(top.raw("excitation"), "excitation");
+        r.string("type", "pluck", {"pluck"});
+        scene.excitation.position = r.number("position", scene.excitation.position);
+        scene.excitation.amplitude = r.number("amplitude", scene.excitation.amplitude);
+        r.rejectUnknown();
+    }
+    if (top.has("pickup"))
+    {
+        ObjectReader r(top.raw("pickup"), "pickup");
+        scene.pickup.position = r.number("position", scene.pickup.position);
+        const auto q = r.string("quantity", "displacement", {"displacement", "velocity", "force"});
+        scene.pickup.quantity = q == "velocity" ? PickupQuantity::velocity
+                                : q == "force"  ? PickupQuantity::force
+                                                : PickupQuantity::displacement;
+        r.rejectUnknown();
+    }
+    if (top.has("simulation"))
+    {
+        ObjectReader r(top.raw("simulation"), "simulation");
+        std::vector<const char*> methods{"reference"};
+        for (const auto& m : kContactMethods)
+            methods.push_back(m.sceneName);
+        setMethodByName(scene.simulation, r.string("method", "reference", methods));
+        if (r.has("rate"))
+            scene.simulation.rateHz = r.positive("rate", 0.0);
+        if (const auto m = r.integer("modes"))
+        {
+            if (*m < 1 || *m > kMaxModes)
+                throw SceneError(r.at("modes"), "must be between 1 and " + std::to_string(kMaxModes) + " (got "
+                                                    + std::to_string(*m) + ")");
+            scene.simulation.modes = static_cast<int>(*m);
+        }
+        scene.simulation.durationSeconds = r.positive("duration", scene.simulation.durationSeconds);
+        if (r.has("residual_compliance"))
+        {
+            const auto& v = r.raw("residual_compliance");
+            if (!v.is_boolean())
+                throw SceneError(r.at("residual_compliance"), "must be true or false, got " + typeName(v));
+            scene.simulation.residualCompliance = v.get<bool>();
+        }
+        if (const auto o = r.integer("output_rate"))
+        {
+            if (*o < 8000 || *o > 384000)
+                throw SceneError(r.at("output_rate"),
+                                 "must be between 8000 and 384000 Hz (got " + std::to_string(*o) + ")");
+            scene.simulation.outputRateHz = static_cast<int>(*o);
+        }
+        r.rejectUnknown();
+    }
+    top.rejectUnknown();
+    validateScene(scene);
+    return scene;
+}
+
+Scene loadSceneFile(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        throw SceneError("(file)", "cannot open scene file '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScene(text.str());
+}
+
+}  // namespace jawari

@@ -1,0 +1,83 @@
+#pragma once
+// jawari-scene/1 (docs/scenes.md): JSON, SI units, every field but `format` defaulted, every
+// field checked. A bad scene throws SceneError naming the field by its path, e.g.
+// "obstacles[1].stiffness: must be > 0 (got -3)". OFF.
+
+#include "physics/ContactMethod.h"
+#include "physics/Obstacle.h"
+#include "physics/Pickup.h"
+#include "physics/StringModel.h"
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace jawari
+{
+
+class SceneError : public std::runtime_error
+{
+public:
+    SceneError(std::string path, const std::string& message)
+        : std::runtime_error(path.empty() ? message : path + ": " + message)
+        , path_(std::move(path))
+    {}
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
+struct Excitation
+{
+    double position = 0.501;    // m
+    double amplitude = 1.5e-3;  // m, triangular shape, zero velocity
+};
+
+struct Pickup
+{
+    double position = 0.992;  // m
+    PickupQuantity quantity = PickupQuantity::displacement;
+};
+
+struct Simulation
+{
+    // The reference (the paper's configuration: M = N - 1 modes on the grid, resampled to the
+    // output), or the plugin's voice (truncated modes, R = oversampling x output rate, decimated)
+    // with its contact solved by `contact`. A scene's "method" names one of the two: "reference",
+    // or a contact method's scene name (kContactMethods).
+    bool reference = true;
+    ContactMethod contact = ContactMethod::energyConserving;
+    std::optional<double> rateHz;  // internal rate; reference default 2 MHz, realtime: automatic
+    std::optional<int> modes;      // reference default 1001, realtime: automatic
+    double durationSeconds = 1.0;
+    int outputRateHz = 48000;
+    bool residualCompliance = true;  // the voice's methods: the dropped modes' static compliance in series
+};
+
+struct Scene
+{
+    StringParameters string;
+    std::vector<Obstacle> obstacles;
+    Excitation excitation;
+    Pickup pickup;
+    Simulation simulation;
+};
+
+inline constexpr double kMaxDurationSeconds = 3600.0;
+
+Scene parseScene(const std::string& jsonText);
+Scene loadSceneFile(const std::string& path);
+
+// Checks a scene's values after command-line overrides (the same rules as the parser).
+void validateScene(const Scene& scene);
+
+// "reference" or the voice's contact method's scene name.
+const char* methodName(const Simulation& simulation);
+// Sets reference/contact from a method's name; false (nothing changed) for an unknown name.
+bool setMethodByName(Simulation& simulation, const std::string& name);
+const char* quantityName(PickupQuantity q);
+const char* quantityUnit(PickupQuantity q);
+
+}  // namespace jawari

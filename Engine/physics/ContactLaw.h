@@ -1,0 +1,100 @@
+#pragma once
+// The regularised contact of docs/design.md section 1 and its energy-conserving discrete gradient
+// (section 2, after Bilbao, Torin & Chatziioannou 2015).
+//
+//   psi(u) = K/(alpha+1) [g - u]_+^(alpha+1),   f = -dpsi/du = K [g - u]_+^alpha   (per metre)
+//
+// Everything here is RT: pure arithmetic, no allocation.
+
+namespace jawari
+{
+
+struct ContactLaw
+{
+    double stiffness = 1e13;  // K, N/m^(1+alpha)
+    double exponent = 1.3;    // alpha >= 1
+};
+
+// psi as a function of the penetration g - u (J/m).
+double contactPotential(const ContactLaw& law, double penetration);
+
+// The series of the divided difference D(p) = (p^beta - s^beta) / (p - s) about p = s:
+//   D = s^alpha sum_k c_k e^k,   e = (p - s) / s,   c_k = binomial(beta, k + 1),
+// used where |e| <= kReach: no pow and no cancellation there. It depends on alpha only, so it is
+// built once per law (ContactSystem keeps one per point), not per solve.
+struct DividedSeries
+{
+    static constexpr int kTerms = 16;
+    static constexpr double kReach = 0.125;  // |c_16| 0.125^16 < 1e-16 c_0 for alpha in [1, 4]
+    double exponent = -1.0;                  // the alpha it was built for
+    double c[kTerms] = {};
+    double c1[kTerms] = {};  // of dD/de: (k + 1) c_{k+1}
+    double c2[kTerms] = {};  // of d2D/de2: (k + 2)(k + 1) c_{k+2}
+    // (1 + x)^alpha = sum_k a_k x^k, a_k = binomial(alpha, k): a power x^alpha from one known
+    // within kReach of it, without a pow (the solve's later iterates, near its first).
+    double a[kTerms] = {};
+};
+DividedSeries dividedSeries(double alpha);
+
+// With s = g - u^{n-1} and r = u^{n+1} - u^{n-1}, the chord slope of psi along u,
+//   G(r) = (psi(u^{n-1} + r) - psi(u^{n-1})) / r      (G(0) = psi'(u^{n-1})),
+// and dG/dr. G <= 0 and is nondecreasing (psi is convex); the contact force is f = -G.
+// Where both ends are in contact and |r/s| <= DividedSeries::kReach, G comes from the series of
+// the divided difference (no pow, no cancellation as r -> 0); elsewhere p^beta - s^beta cancels by
+// a few ulps at most. So f r = -(psi^{n+1} - psi^{n-1}) holds to rounding and the energy balance
+// with it.
+struct ChordSlope
+{
+    double value = 0.0;
+    double derivative = 0.0;
+};
+ChordSlope chordSlope(const ContactLaw& law, double s, double r);
+// A power x^alpha known at some x > 0, used two ways:
+//  - an earlier solve's penetration: the contact point's s two steps later is that step's p to
+//    ~1e-12, so s^alpha follows from it without a pow (powerOf);
+//  - an anchor, the latest pow made during a solve: a penetration within DividedSeries::kReach of x
+//    takes its power from it by the series a_k instead of another pow.
+struct KnownPower
+{
+    double x = 0.0;
+    double xAlpha = 0.0;  // x^alpha, or 0 if unknown
+    double invX = 0.0;    // 1/x
+};
+// The same with the law's series and sAlpha = [s]_+^alpha given (both fixed during a solve), and
+// optionally an anchor the evaluation uses and renews (kept per point by the caller).
+ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
+                      KnownPower* anchor = nullptr);
+
+// [s]_+^alpha, from `known` without a pow where s is within 1e-6 of its x (optional).
+double powerOf(double s, double alpha, const KnownPower* known);
+// The penetration p = s - r at the root and p^alpha from the chord slope there (p^beta = s^beta +
+// D (p - s), D = -beta G / K), where p >= s/2 (elsewhere that would cancel: xAlpha = 0).
+KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& law, double r);
+
+// Solves  r + k G(r) = b  (k > 0): the scalar contact equation of docs/design.md section 2.
+// Out of contact, or leaving it (the root has the string off the obstacle at n+1), the root is in
+// closed form. In contact at n+1 it is found in the penetration p = s - r in (0, d], d = s - b:
+//   Phi(p) = (k K / beta) D(p) + p - d = 0.
+// Phi is increasing and convex for alpha >= 1 (D is the mean of psi' between s and p, and the
+// third derivative of psi is >= 0), so Halley's and Newton's steps from the right of the root
+// descend to it without passing it. Started at or right of the root where a bound allows (the
+// tangent at s, a linear bound on D, a power balance on a new contact), else from Phi's quadratic
+// model about s, it takes about two evaluations of D, each one pow at most (none near s, where
+// the series serves, nor within DividedSeries::kReach of the solve's last pow, its anchor); Newton
+// in log p takes the steps from a start far off.
+struct ScalarContactSolution
+{
+    double r = 0.0;
+    double slope = 0.0;  // G(r): the force per metre is -slope
+    int iterations = 0;  // Halley or Newton steps
+    // The root's penetration p = s - r with p^alpha, formed without a pow: from D (p^beta = s^beta +
+    // D (p - s)) where p >= s/2, else from the solve's last pow where p is within reach of it. xAlpha
+    // is 0 when the string is off the obstacle at n+1 or neither applies.
+    KnownPower penetration;
+};
+// `series` (optional) is dividedSeries(law.exponent), built once by the caller; without it, or if
+// it was built for another exponent, it is built here. `known` (optional): see KnownPower.
+ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
+                                         const DividedSeries* series = nullptr, const KnownPower* known = nullptr);
+
+}  // namespace jawari

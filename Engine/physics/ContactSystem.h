@@ -1,0 +1,64 @@
+#pragma once
+// The implicit contact solve of docs/design.md section 2 for P coupled points:
+//   r + A G(r) = b,   A = (dt^2/mu) Phi Phi^T W,   G_j the chord slope of point j.
+// A diagonal A splits into P scalar solves (the reference grid: Phi Phi^T W = I). Otherwise a
+// Newton iteration with a backtracking line search on |phi|, falling back to nonlinear
+// Gauss-Seidel sweeps of scalar solves when the line search stalls.
+
+#include "physics/ContactLaw.h"
+#include "physics/Obstacle.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <vector>
+
+namespace jawari
+{
+
+class ContactSystem
+{
+public:
+    // OFF: sizes every workspace so solve() never allocates.
+    void prepare(const std::vector<ContactPoint>& points, Eigen::MatrixXd couplingA);
+
+    int size() const { return static_cast<int>(points_.size()); }
+    bool isDiagonal() const { return diagonal_; }
+    const Eigen::MatrixXd& coupling() const { return A_; }
+
+    // Forget the warm-start history (new initial state). RT.
+    void reset();
+
+    // RT: a new law for point j (the obstacle's stiffness or exponent automated); no allocation.
+    void setLaw(int j, const ContactLaw& law);
+    // RT: a new coupling matrix of the same size (the residual compliance rescaled by a retune).
+    // The diagonal/coupled decision made by prepare() stands: a rescaled compliance keeps it.
+    void setCoupling(const Eigen::MatrixXd& couplingA);
+
+    // RT. s_j = g_j - u_j^{n-1}, b_j = u~_j - u_j^{n-1}. Writes r and the slopes G_j(r_j)
+    // (force per metre -G_j). Returns the iteration count (max over points when decoupled).
+    int solve(const double* s, const double* b, double* r, double* slope);
+
+private:
+    // phi = r + A G(r) - b, with G_ and dG_ written at r; returns |phi|_inf.
+    double residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi);
+    void gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r);
+
+    std::vector<ContactPoint> points_;
+    std::vector<DividedSeries> series_;  // per point, for its law's exponent
+    // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
+    // one's p is this step's s (ContactLaw.h, KnownPower).
+    std::vector<std::array<KnownPower, 2>> known_;
+    std::vector<double> sAlpha_;       // [s_j]_+^alpha of the coupled solve in progress
+    std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
+    Eigen::MatrixXd A_;
+    bool diagonal_ = true;
+    Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;
+    Eigen::MatrixXd J_;
+    // Warm start of the coupled Newton: the last two steps' r where the point was in contact.
+    std::vector<double> previousR_, olderR_;
+    std::vector<char> previousContact_, olderContact_;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+};
+
+}  // namespace jawari

@@ -1,0 +1,196 @@
+#pragma once
+// The per-mode streams of a step, written for the vector units. RT, no allocation.
+//
+// A plain `omp simd reduction` keeps one vector accumulator, so the dot products run at the FMA
+// latency (one vector every ~4 cycles). Four vectors' worth of independent partial sums
+// (kBlock lanes) lets the loads and FMAs overlap; the summation order is fixed, so results are
+// reproducible for a given build.
+
+#include <cstddef>
+
+namespace jawari::kernels
+{
+
+inline constexpr int kBlock = 32;  // 4 x 8 doubles (AVX-512) or 8 x 4 (AVX2)
+
+// Eight partial sums (one vector) added as a tree, in a fixed order.
+inline double sum8(const double* v)
+{
+    return ((v[0] + v[4]) + (v[2] + v[6])) + ((v[1] + v[5]) + (v[3] + v[7]));
+}
+
+// The kBlock partial sums added as a tree (a fixed order): five dependent vector adds instead of
+// 31 dependent scalar ones, which cost as much as the whole pass over 200 modes.
+inline double horizontalSum(const double* partial)
+{
+    static_assert(kBlock == 32);
+    alignas(64) double t[16];
+#pragma omp simd aligned(t : 64)
+    for (int k = 0; k < 16; ++k)
+        t[k] = partial[k] + partial[k + 16];
+#pragma omp simd aligned(t : 64)
+    for (int k = 0; k < 8; ++k)
+        t[k] += t[k + 8];
+    return sum8(t);
+}
+
+// q~ = a q - e qPrev written over qPrev; returns h . q~ (the single-step path; contact
+// projections follow, after any explicit force has joined q~).
+inline double predict(const double* __restrict a, const double* __restrict e, const double* __restrict current,
+                      double* __restrict previous, const double* __restrict h, int M)
+{
+    alignas(64) double ph[kBlock] = {};
+    int p = 0;
+    for (; p + kBlock <= M; p += kBlock)
+    {
+#pragma omp simd aligned(ph : 64)
+        for (int k = 0; k < kBlock; ++k)
+        {
+            const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
+            previous[p + k] = next;
+            ph[k] += h[p + k] * next;
+        }
+    }
+    double y = horizontalSum(ph);
+    for (; p < M; ++p)
+    {
+        const double next = a[p] * current[p] - e[p] * previous[p];
+        previous[p] = next;
+        y += h[p] * next;
+    }
+    return y;
+}
+
+// predict() and the contact projections u_j = phi_j . q~ of up to kMaxFused points in the same pass
+// (phi_j at phi + j stride): one read of the state instead of 1 + P. M a multiple of 8. Returns
+// h . q~.
+inline constexpr int kMaxFused = 8;
+inline double predictProject(const double* __restrict a, const double* __restrict e, const double* __restrict current,
+                             double* __restrict previous, const double* __restrict h, const double* __restrict phi,
+                             int stride, int P, int M, double* __restrict u)
+{
+    alignas(64) double ph[8] = {};
+    alignas(64) double pu[kMaxFused][8] = {};
+    for (int p = 0; p < M; p += 8)
+    {
+        alignas(64) double next[8];
+#pragma omp simd aligned(ph, next : 64)
+        for (int k = 0; k < 8; ++k)
+        {
+            next[k] = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
+            previous[p + k] = next[k];
+            ph[k] += h[p + k] * next[k];
+        }
+        for (int j = 0; j < P; ++j)
+        {
+            const double* __restrict row = phi + static_cast<ptrdiff_t>(j) * stride + p;
+#pragma omp simd aligned(next : 64)
+            for (int k = 0; k < 8; ++k)
+                pu[j][k] += row[k] * next[k];
+        }
+    }
+    for (int j = 0; j < P; ++j)
+        u[j] = sum8(pu[j]);
+    return sum8(ph);
+}
+
+// Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
+// predictions with scalar contact corrections still to apply (docs/design.md section 2, with
+// q^{n+1} = q~^{n+1} + c phi):
+//   q^{m-1} = X + c1 phi,   q^m = Y + (c1 a + c2) phi
+// and leaves as X = q~^{m+1} = a q^m - e q^{m-1}, Y = a X - e q^m (q~^{m+2} before step m+1's
+// correction, which the caller folds in as c1 a phi), settled = q^m, with h . and phi . of X and Y.
+// Per two steps: six loads and three stores per mode, against twelve and four for two single
+// steps; the state stays in registers between the steps. phi may be null (no contact point).
+inline void pairStep(const double* __restrict a, const double* __restrict e, double* __restrict X, double* __restrict Y,
+                     double* __restrict settled, const double* __restrict h, const double* __restrict phi, double c1,
+                     double c2, int M, double& pickup1, double& contact1, double& pickup2, double& contact2)
+{
+    alignas(64) double ph1[kBlock] = {}, pc1[kBlock] = {}, ph2[kBlock] = {}, pc2[kBlock] = {};
+    static constexpr double zeros[kBlock] = {};
+    int p = 0;
+    for (; p + kBlock <= M; p += kBlock)
+    {
+        const double* __restrict ph = phi != nullptr ? phi + p : zeros;
+#pragma omp simd aligned(ph1, pc1, ph2, pc2 : 64)
+        for (int k = 0; k < kBlock; ++k)
+        {
+            const double ak = a[p + k];
+            const double before = X[p + k] + c1 * ph[k];
+            const double now = Y[p + k] + (c1 * ak + c2) * ph[k];
+            const double t1 = ak * now - e[p + k] * before;
+            const double t2 = ak * t1 - e[p + k] * now;
+            settled[p + k] = now;
+            X[p + k] = t1;
+            Y[p + k] = t2;
+            ph1[k] += h[p + k] * t1;
+            pc1[k] += ph[k] * t1;
+            ph2[k] += h[p + k] * t2;
+            pc2[k] += ph[k] * t2;
+        }
+    }
+    double y1 = horizontalSum(ph1), u1 = horizontalSum(pc1), y2 = horizontalSum(ph2), u2 = horizontalSum(pc2);
+    for (; p < M; ++p)
+    {
+        const double ph = phi != nullptr ? phi[p] : 0.0;
+        const double before = X[p] + c1 * ph;
+        const double now = Y[p] + (c1 * a[p] + c2) * ph;
+        const double t1 = a[p] * now - e[p] * before;
+        const double t2 = a[p] * t1 - e[p] * now;
+        settled[p] = now;
+        X[p] = t1;
+        Y[p] = t2;
+        y1 += h[p] * t1;
+        u1 += ph * t1;
+        y2 += h[p] * t2;
+        u2 += ph * t2;
+    }
+    pickup1 = y1;
+    contact1 = u1;
+    pickup2 = y2;
+    contact2 = u2;
+}
+
+// x . y
+inline double dot(const double* __restrict x, const double* __restrict y, int M)
+{
+    alignas(64) double partial[kBlock] = {};
+    int p = 0;
+    for (; p + kBlock <= M; p += kBlock)
+    {
+#pragma omp simd aligned(partial : 64)
+        for (int k = 0; k < kBlock; ++k)
+            partial[k] += x[p + k] * y[p + k];
+    }
+    double s = horizontalSum(partial);
+    for (; p < M; ++p)
+        s += x[p] * y[p];
+    return s;
+}
+
+// t . (x + y): a symmetric filter's output with the pairs of samples it weights equally.
+inline double pairedDot(const double* __restrict t, const double* __restrict x, const double* __restrict y, int M)
+{
+    alignas(64) double partial[kBlock] = {};
+    int p = 0;
+    for (; p + kBlock <= M; p += kBlock)
+    {
+#pragma omp simd aligned(partial : 64)
+        for (int k = 0; k < kBlock; ++k)
+            partial[k] += t[p + k] * (x[p + k] + y[p + k]);
+    }
+    double s = horizontalSum(partial);
+    for (; p < M; ++p)
+        s += t[p] * (x[p] + y[p]);
+    return s;
+}
+
+// y += c x
+inline void axpy(double c, const double* __restrict x, double* __restrict y, int M)
+{
+#pragma omp simd
+    for (int p = 0; p < M; ++p)
+        y[p] += c * x[p];
+}
+
+}  // namespace jawari::kernels

@@ -1,0 +1,553 @@
+#include "physics/ModalSolver.h"
+
+#include "physics/ModalKernels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace jawari
+{
+
+ModalSolver::ModalSolver(const ModalSolverConfig& config)
+    : M_(config.modes.size())
+    , P_(static_cast<int>(config.contacts.size()))
+    , dt_(config.timeStep)
+    , mu_(config.linearDensity)
+    , lengthMetres_(config.lengthMetres)
+    , forceScale_(config.timeStep * config.timeStep / config.linearDensity)
+    , contacts_(config.contacts)
+{
+    if (M_ < 1)
+        throw std::invalid_argument("the modal solver needs at least one mode");
+    if (!(dt_ > 0.0) || !(mu_ > 0.0) || !(config.lengthMetres > 0.0))
+        throw std::invalid_argument("the modal solver needs a positive time step, density and length");
+    buildModeTables(config);
+    for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_, &penetration_, &pointForce_})
+        v->assign(P_, 0.0);
+    if (config.transform && P_ > 0)
+        transform_ = config.transform(contacts_, lengthMetres_, M_);
+    buildContactShapes(config);
+    markCoupledModes(config);
+    prepareContactMethods(config, stringResponse());
+    if (transform_)
+    {
+        shapes_.clear();  // the transform reaches the points
+        shapes_.shrink_to_fit();
+    }
+    setState(std::vector<double>(M_, 0.0), std::vector<double>(M_, 0.0));
+}
+
+void ModalSolver::buildModeTables(const ModalSolverConfig& config)
+{
+    coeffs_.resize(M_);
+    coeffsReleased_.resize(M_);
+    omega_ = config.modes.omega;
+    sigma_ = config.modes.sigma;
+    releaseSigma_ = config.releaseSigma;
+    for (int p = 0; p < M_; ++p)
+    {
+        coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
+        coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
+    }
+    pickupWeights_ = config.pickupWeights;
+    pickupWeights_.resize(M_, 0.0);
+    basePickupWeights_ = pickupWeights_;
+}
+
+// phi_p(x_j) for every point and mode, and what a force at each point does to the pickup.
+void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
+{
+    shapes_.resize(static_cast<size_t>(P_) * M_);
+    for (int j = 0; j < P_; ++j)
+        for (int p = 0; p < M_; ++p)
+            shapes_[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
+    for (int j = 0; j < P_; ++j)
+    {
+        double hp = 0.0;
+        for (int p = 0; p < M_; ++p)
+            hp += pickupWeights_[p] * shapes_[size_t(j) * M_ + p];
+        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * hp;
+    }
+}
+
+// A mode is coupled when some contact point, or the excitation point, sees it above rounding
+// (|phi| <= sqrt(2/L)); the transform path and keepEveryMode step every mode.
+void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
+{
+    const double L = config.lengthMetres;
+    coupled_.assign(M_, transform_ || config.keepEveryMode ? 1 : 0);
+    const double couplingFloor = 1e-13 * std::sqrt(2.0 / L);
+    for (int j = 0; j < P_; ++j)
+        for (int p = 0; p < M_; ++p)
+            if (std::abs(shapes_[size_t(j) * M_ + p]) > couplingFloor)
+                coupled_[p] = 1;
+    if (config.excitationPosition)
+    {
+        excitationShape_.resize(M_);
+        for (int p = 0; p < M_; ++p)
+        {
+            excitationShape_[p] = modeShape(L, p + 1, *config.excitationPosition);
+            if (std::abs(excitationShape_[p]) > couplingFloor)
+                coupled_[p] = 1;
+        }
+        pickupPhiE_ = forceScale_ * kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_);
+    }
+}
+
+// A = (dt^2/mu) Phi Phi^T W, the string's response at the points. On the grid with M = N - 1,
+// S dx S^T = I, so Phi Phi^T W = diag(w_j / dx).
+Eigen::MatrixXd ModalSolver::stringResponse() const
+{
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P_, P_);
+    if (transform_)
+    {
+        const double dx = lengthMetres_ / (M_ + 1);
+        for (int j = 0; j < P_; ++j)
+            A(j, j) = forceScale_ * contacts_[j].weight / dx;
+        return A;
+    }
+    for (int i = 0; i < P_; ++i)
+        for (int j = 0; j < P_; ++j)
+            A(i, j) = forceScale_ * contacts_[j].weight
+                      * kernels::dot(&shapes_[size_t(i) * M_], &shapes_[size_t(j) * M_], M_);
+    return A;
+}
+
+// The residual compliance and the chosen contact method, on the coupling A (+ C W).
+void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::MatrixXd A)
+{
+    stringCoupling_ = A;
+    compliance_.prepare(transform_ ? std::vector<double>{} : config.contactCompliance, contacts_);
+    if (compliance_.active())
+    {
+        couplingScratch_ = A + compliance_.complianceW();
+        // The contact sees the true displacement change R = r + delta^{n+1} - delta^{n-1}
+        //   = (b - delta^{n-1}) + (A + C W) f: the same equation with A + C W.
+        A += compliance_.complianceW();
+    }
+    method_ = config.method;
+    pointCoupling_ = A;
+    for (int j = 0; j < P_; ++j)
+        pointCoupling_.col(j) /= contacts_[j].weight;
+    quadratised_.prepare(P_);
+    system_.prepare(contacts_, std::move(A));
+}
+
+void ModalSolver::setState(const std::vector<double>& current, const std::vector<double>& previous)
+{
+    if (static_cast<int>(current.size()) != M_ || static_cast<int>(previous.size()) != M_)
+        throw std::invalid_argument("modal state has the wrong number of modes");
+    state_.compact(coupled_, current, previous, excitationShape_, shapes_, P_, transform_ != nullptr,
+                   !transform_ && P_ <= 1);
+    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_);
+    restartFromModes();
+}
+
+void ModalSolver::restartFromModes()
+{
+    // Everything derived from the modal state, afresh: contact displacements, pickup, the
+    // compliance deflections and the quadratised variable (xi = sqrt(2 V) at n and n-1).
+    system_.reset();
+    compliance_.reset();
+    projectActive(state_.q(), uC_.data());
+    projectActive(state_.qPrev(), uCPrev_.data());
+    pickup_ = kernels::dot(state_.h(), state_.q(), state_.activeCount());
+    if (method_ == ContactMethod::quadratised)
+    {
+        for (int j = 0; j < P_; ++j)
+        {
+            penetration_[j] = contacts_[j].height - uC_[j];
+            pointForce_[j] = contacts_[j].height - uCPrev_[j];
+        }
+        quadratised_.restart(contacts_, penetration_.data(), pointForce_.data());
+    }
+}
+
+void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplacement)
+{
+    if (static_cast<int>(modalDisplacement.size()) != M_)
+        throw std::invalid_argument("initial displacement has the wrong number of modes");
+    // q^{-1} is the exact free motion one step back, so a run without contact is the analytic
+    // solution. For a mode damped by more than e^0.5 per step that value is huge (e^{sigma dt}: the
+    // top modes of a fine grid at an audio rate reach e^26) and the recurrence would cancel huge
+    // numbers; such a mode starts at rest in the centred sense instead, q^{-1} = q(+dt).
+    std::vector<double> previous(M_, 0.0);
+    for (int p = 0; p < M_; ++p)
+        previous[p] = previousAtRest(p, modalDisplacement[p]);
+    setState(modalDisplacement, previous);
+}
+
+void ModalSolver::step()
+{
+    if (state_.pairable() && externalForce_ == 0.0)
+    {
+        state_.beginPairs();
+        stepPaired();
+        return;
+    }
+    state_.toSingle();
+    stepSingle();
+}
+
+void ModalSolver::setExternalForce(double newtons)
+{
+    externalForce_ = excitationShape_.empty() ? 0.0 : newtons;
+}
+
+double ModalSolver::stringEnergy() const
+{
+    double sum = 0.0;
+    for (int i = 0; i < state_.activeCount(); ++i)
+    {
+        const ModalState::Mode m = state_.mode(i);
+        const auto& c = state_.coefficients(i);
+        const double v = (m.now - m.before) / dt_;
+        sum += c.kineticWeight * v * v + c.potentialWeight * m.now * m.before;
+    }
+    return 0.5 * mu_ * sum;
+}
+
+double ModalSolver::obstacleEnergy() const
+{
+    if (method_ == ContactMethod::quadratised)
+        return quadratised_.energy();
+    double sum = 0.0;
+    for (int j = 0; j < P_; ++j)
+        sum += contacts_[j].weight * 0.5
+               * (contactPotential(contacts_[j].law, contacts_[j].height - uC_[j] - compliance_.delta(j))
+                  + contactPotential(contacts_[j].law, contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j)));
+    return sum;
+}
+
+double ModalSolver::pickupCompliance() const
+{
+    double sum = 0.0;
+    for (int p = 0; p < M_; ++p)
+        sum += pickupWeights_[p] * pickupWeights_[p] / (mu_ * omega_[p] * omega_[p]);
+    return sum;
+}
+
+void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
+{
+    state_.toSingle();  // the paired layout's corrections were made with the old coefficients
+    for (int p = 0; p < M_; ++p)
+    {
+        omega_[p] = omega[p];
+        sigma_[p] = sigma[p];
+        coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
+        coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + releaseSigma_, dt_);
+        pickupWeights_[p] = pickupScale * basePickupWeights_[p];
+    }
+    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_);
+    const int Ma = state_.activeCount();
+    for (int j = 0; j < P_ && !transform_; ++j)
+        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * kernels::dot(state_.h(), state_.phi(j), Ma);
+    if (!excitationShape_.empty())
+        pickupPhiE_ = forceScale_ * kernels::dot(state_.h(), state_.phiE(), Ma);
+    pickup_ = kernels::dot(state_.h(), state_.q(), Ma);
+    if (compliance_.active())
+    {
+        compliance_.rescale(complianceScale, contacts_);
+        updateCouplings();
+    }
+}
+
+void ModalSolver::updateCouplings()
+{
+    const auto& CW = compliance_.complianceW();
+    for (int i = 0; i < P_; ++i)
+        for (int j = 0; j < P_; ++j)
+        {
+            const double a = stringCoupling_(i, j) + CW(i, j);
+            pointCoupling_(i, j) = a / contacts_[j].weight;
+            couplingScratch_(i, j) = a;
+        }
+    system_.setCoupling(couplingScratch_);
+}
+
+double ModalSolver::previousAtRest(int p, double q0) const
+{
+    const double back = sigma_[p] * dt_ <= 0.5 ? -dt_ : dt_;  // see setInitialDisplacement()
+    return freeDampedMotion(q0, 0.0, omega_[p], sigma_[p], back);
+}
+
+void ModalSolver::startFrom(const double* modalDisplacement)
+{
+    state_.restartSingle();
+    for (int i = 0; i < state_.activeCount(); ++i)
+    {
+        const int p = state_.activeMode(i);
+        state_.set(i, modalDisplacement[p], previousAtRest(p, modalDisplacement[p]));
+    }
+    restartFromModes();
+}
+
+void ModalSolver::setContact(int j, const ContactLaw& law, double height)
+{
+    contacts_[size_t(j)].law = law;
+    contacts_[size_t(j)].height = height;
+    system_.setLaw(j, law);
+}
+
+void ModalSolver::displacementAt(const double* shapes, int count, double* out)
+{
+    state_.toSingle();
+    const double* q = state_.q();
+    for (int k = 0; k < count; ++k)
+    {
+        double u = 0.0;
+        for (int i = 0; i < state_.activeCount(); ++i)
+            u += q[i] * shapes[size_t(k) * M_ + state_.activeMode(i)];
+        out[k] = u;
+    }
+}
+
+void ModalSolver::resetToRest()
+{
+    state_.clear();
+    externalForce_ = 0.0;
+    system_.reset();
+    std::fill(uC_.begin(), uC_.end(), 0.0);
+    std::fill(uCPrev_.begin(), uCPrev_.end(), 0.0);
+    compliance_.reset();
+    quadratised_.reset();
+    pickup_ = pickupTilde_ = 0.0;
+}
+
+void ModalSolver::takeMotionFrom(ModalSolver& other)
+{
+    other.state_.toSingle();
+    state_.toSingle();
+    const double* q = other.state_.q();
+    const double* qPrev = other.state_.qPrev();
+    for (int i = 0; i < state_.activeCount(); ++i)
+    {
+        const int k = other.state_.indexOfMode(state_.activeMode(i));
+        state_.set(i, k >= 0 ? q[k] : 0.0, k >= 0 ? qPrev[k] : 0.0);
+    }
+    restartFromModes();
+}
+
+double ModalSolver::solveOnePoint(double uTilde)
+{
+    s_[0] = contacts_[0].height - uCPrev_[0] - compliance_.deltaPrev(0);
+    b_[0] = uTilde - uCPrev_[0] - compliance_.deltaPrev(0);
+    lastIterations_ = solveContacts();
+    // u_C^{n+1} = u~ + A f with f = -G.
+    uCPrev_[0] = uC_[0];
+    uC_[0] = uTilde - stringCoupling_(0, 0) * slope_[0];
+    compliance_.advance(slope_.data());
+    lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
+    return slope_[0];
+}
+
+int ModalSolver::solveContacts()
+{
+    if (method_ == ContactMethod::energyConserving)
+        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+    // The explicit methods start from the penetration at n.
+    for (int j = 0; j < P_; ++j)
+        penetration_[j] = contacts_[j].height - uC_[j] - compliance_.delta(j);
+    if (method_ == ContactMethod::penalty)
+        return PenaltyContact::solve(contacts_, penetration_.data(), slope_.data());
+    return quadratised_.solve(contacts_, penetration_.data(), b_.data(), pointCoupling_, slope_.data());
+}
+
+void ModalSolver::stepPaired()
+{
+    lastIterations_ = 0;
+    lastPenetration_ = -std::numeric_limits<double>::infinity();
+    const double* phi = state_.singlePhi();
+    if (state_.layout() == ModalState::Layout::pairBoundary)
+    {
+        double u1 = 0.0;
+        kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(), phi,
+                          state_.c1(), state_.c2(), state_.paddedCount(), pickupTilde_, u1, pairPickup2_,
+                          pairContact2_);
+        double y = pickupTilde_;
+        double c1 = 0.0;
+        if (P_ == 1)
+        {
+            const double G = solveOnePoint(u1);
+            c1 = -forceScale_ * contacts_[0].weight * G;  // q^{n+1} = q~ + c1 phi
+            y -= pickupPhiW_[0] * G;
+        }
+        pickup_ = y;
+        state_.setPairMiddle(c1);
+        return;
+    }
+    // Second step of the pair: q~^{n+2} = Y + c1 a phi, so its projections gain c1 sum(a phi phi).
+    double y = pairPickup2_ + state_.c1() * state_.sumAPhiH();
+    double c2 = 0.0;
+    if (P_ == 1)
+    {
+        const double G = solveOnePoint(pairContact2_ + state_.c1() * state_.sumAPhiSquared());
+        c2 = -forceScale_ * contacts_[0].weight * G;
+        y -= pickupPhiW_[0] * G;
+    }
+    pickup_ = y;
+    state_.setPairBoundary(c2);
+}
+
+void ModalSolver::stepSingle()
+{
+    const bool fused = !transform_ && externalForce_ == 0.0 && P_ > 0 && P_ <= kernels::kMaxFused;
+    predictAtPoints(fused);
+    lastIterations_ = 0;
+    bool anyForce = false;
+    if (P_ > 0)
+    {
+        for (int j = 0; j < P_; ++j)
+        {
+            s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
+            b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.deltaPrev(j);
+        }
+        lastIterations_ = solveContacts();
+        for (int j = 0; j < P_; ++j)
+            anyForce = anyForce || slope_[j] != 0.0;
+    }
+    if (anyForce)
+        applyContactForces();
+    endSingleStep();
+}
+
+// q~ = a q - e q^{n-1}, written over q^{n-1}, with any explicit force; its pickup and contact
+// projections (pickupTilde_, uTilde_).
+void ModalSolver::predictAtPoints(bool fused)
+{
+    double* next = state_.qPrev();
+    const int Mpad = state_.paddedCount();
+    if (fused)
+        pickupTilde_ = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.phi(0),
+                                               state_.stride(), P_, Mpad, uTilde_.data());
+    else
+        pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), Mpad);
+    if (externalForce_ != 0.0)
+    {
+        // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.
+        kernels::axpy(forceScale_ * externalForce_, state_.phiE(), next, Mpad);
+        pickupTilde_ += externalForce_ * pickupPhiE_;
+    }
+    if (transform_)
+        transform_->sample(next, uTilde_.data());
+    else if (!fused)
+        for (int j = 0; j < P_; ++j)
+            uTilde_[j] = kernels::dot(state_.phi(j), next, Mpad);
+}
+
+// q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r); u_C^{n+1} = u~ + A f, and the pickup likewise.
+void ModalSolver::applyContactForces()
+{
+    double* next = state_.qPrev();
+    if (transform_)
+    {
+        for (int j = 0; j < P_; ++j)
+            pointForce_[j] = -contacts_[j].weight * slope_[j];
+        transform_->spread(pointForce_.data(), forceScale_, next);
+    }
+    else
+        for (int j = 0; j < P_; ++j)
+            if (slope_[j] != 0.0)
+                kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], state_.phi(j), next,
+                              state_.paddedCount());
+    const auto& A = stringCoupling_;
+    for (int j = 0; j < P_; ++j)
+    {
+        double Af = 0.0;
+        for (int i = 0; i < P_; ++i)
+            Af -= A(j, i) * slope_[i];
+        uTilde_[j] += Af;
+        pickupTilde_ -= pickupPhiW_[j] * slope_[j];
+    }
+}
+
+// The step's end: the compliance, the contact displacements and penetration, q^{n+1} as q.
+void ModalSolver::endSingleStep()
+{
+    if (P_ > 0)
+        compliance_.advance(slope_.data());
+    lastPenetration_ = -std::numeric_limits<double>::infinity();
+    for (int j = 0; j < P_; ++j)
+    {
+        uCPrev_[j] = uC_[j];
+        uC_[j] = uTilde_[j];
+        lastPenetration_ = std::max(lastPenetration_, contacts_[j].height - uC_[j] - compliance_.delta(j));
+    }
+    state_.swapSingle();
+    pickup_ = pickupTilde_;
+}
+
+void ModalSolver::fullState(std::vector<double>& current, std::vector<double>& previous) const
+{
+    // Active-mode state (q^n, q^{n-1}), whatever the layout.
+    const int Ma = state_.activeCount();
+    current.resize(Ma);
+    previous.resize(Ma);
+    for (int i = 0; i < Ma; ++i)
+    {
+        const ModalState::Mode m = state_.mode(i);
+        current[i] = m.now;
+        previous[i] = m.before;
+    }
+}
+
+std::vector<double> ModalSolver::modalState(bool previous)
+{
+    std::vector<double> current, before;
+    fullState(current, before);
+    std::vector<double> full(M_, 0.0);
+    const auto& src = previous ? before : current;
+    for (int i = 0; i < state_.activeCount(); ++i)
+        full[state_.activeMode(i)] = src[i];
+    return full;
+}
+
+void ModalSolver::projectActive(const double* qActive, double* u) const
+{
+    if (P_ == 0)
+        return;
+    if (transform_)
+    {
+        transform_->sampleAside(qActive, u);
+        return;
+    }
+    for (int j = 0; j < P_; ++j)
+        u[j] = kernels::dot(state_.phi(j), qActive, state_.activeCount());
+}
+
+double ModalSolver::stepLoss(const double* next, const double* previous) const
+{
+    double sum = 0.0;
+    for (int p = 0; p < M_; ++p)
+    {
+        const double v = (next[p] - previous[p]) / (2.0 * dt_);
+        sum += coeffs_[p].lossWeight * v * v;
+    }
+    return mu_ * sum;
+}
+
+ModalSolver::Energy ModalSolver::energy()
+{
+    std::vector<double> current, previous;
+    fullState(current, previous);
+    Energy out;
+    std::vector<double> u(P_), uPrev(P_);
+    projectActive(current.data(), u.data());
+    projectActive(previous.data(), uPrev.data());
+    for (int j = 0; j < P_; ++j)
+        out.contact +=
+            contacts_[j].weight * 0.5
+            * (contactPotential(contacts_[j].law, contacts_[j].height - u[j] - compliance_.delta(j))
+               + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
+    if (method_ == ContactMethod::quadratised)
+        out.contact = quadratised_.energy();  // the quadratised contact energy, V = xi^2/2
+    if (compliance_.active())
+        out.contact += compliance_.energy();  // the dropped modes' static spring
+    out.total = stringEnergy() + out.contact;
+    return out;
+}
+
+}  // namespace jawari

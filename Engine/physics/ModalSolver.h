@@ -1,0 +1,205 @@
+#pragma once
+// The mixed modal scheme of docs/design.md section 2: M modes, each advanced by its exact update, and
+// the energy-conserving contact force at P contact points.
+//
+//   q~ = a q^n - e q^{n-1}                      (contact-free prediction, exact per mode)
+//   r + (dt^2/mu) Phi Phi^T W G(r) = Phi q~ - u_C^{n-1}     (implicit contact, ContactSystem)
+//   q^{n+1} = q~ + (dt^2/mu) Phi^T W f,   f = -G(r)
+//
+// Two ways to reach the contact points:
+//  - projection: Phi stored (P x M), O(M P) per step; any points, any M (the few-point path);
+//  - a GridTransform: the reference grid (M = N - 1, every contact point on a distinct node
+//    x_i = i L/N), where Phi Phi^T W is diagonal and q <-> u is a DST-I, O(N log N) per step.
+//
+// The parts, each in its own file: the active modes and their stepping arrays (ModalState), the
+// contact methods (ContactSystem: the energy-conserving Newton; QuadratisedContact;
+// PenaltyContact), the residual compliance (ResidualCompliance) and the transform (GridTransform).
+
+#include "physics/ContactMethod.h"
+#include "physics/ContactSystem.h"
+#include "physics/ExactOscillator.h"
+#include "physics/GridTransform.h"
+#include "physics/ModalState.h"
+#include "physics/Obstacle.h"
+#include "physics/PenaltyContact.h"
+#include "physics/QuadratisedContact.h"
+#include "physics/ResidualCompliance.h"
+#include "physics/StringModel.h"
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace jawari
+{
+
+struct ModalSolverConfig
+{
+    double lengthMetres = 1.002;
+    double linearDensity = 1.17e-3;
+    double timeStep = 5e-7;  // s
+    ModalTable modes;
+    std::vector<ContactPoint> contacts;
+    std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
+    // The reference grid's transform to the contact points; empty: projection.
+    GridTransformFactory transform;
+    // Where setExternalForce() pushes (the voice's pluck); its modes are kept active.
+    std::optional<double> excitationPosition;
+    // Extra damping (1/s, every mode) of the second coefficient set, selected by setReleased().
+    double releaseSigma = 0.0;
+    // Residual compliance (ResidualCompliance.h), P x P row-major, m/N: C_ij = sum over the dropped
+    // modes of phi_p(x_i) phi_p(x_j) / (mu w_p^2). Projection path only; empty for none.
+    std::vector<double> contactCompliance;
+    ContactMethod method = ContactMethod::energyConserving;
+    // Step every mode, even those nothing couples to and that start at rest: the plugin's voices
+    // take state across rebuilds (a new pluck or pickup point) and must not drop a ringing mode.
+    bool keepEveryMode = false;
+};
+
+class ModalSolver
+{
+public:
+    explicit ModalSolver(const ModalSolverConfig& config);  // OFF: tables, Phi, the transform
+    ModalSolver(const ModalSolver&) = delete;
+    ModalSolver& operator=(const ModalSolver&) = delete;
+
+    // OFF/CT: modal displacements at t = 0 with zero velocity; q^{-1} is set from each mode's
+    // exact free motion, so without contact the run is the analytic solution (modes damped by
+    // more than e^0.5 per step start with q^{-1} = q(+dt) instead, see the .cpp).
+    void setInitialDisplacement(const std::vector<double>& modalDisplacement);
+    // OFF/CT: an explicit state pair (q^n, q^{n-1}).
+    void setState(const std::vector<double>& current, const std::vector<double>& previous);
+
+    void step();  // RT: n -> n+1
+
+    // RT: a point force (N) at the excitation position, applied explicitly from the next step on
+    // (part of the prediction: q~ += (dt^2/mu) F phi_e) until set back to 0.
+    void setExternalForce(double newtons);
+    // RT: switch to the damping set with releaseSigma added (note-off) or back. The state carries
+    // over unchanged, so the sound does not jump.
+    void setReleased(bool released) { state_.useReleased(released); }
+    bool released() const { return state_.released(); }
+    // RT: the string part of H^{n-1/2} (no contact part), without allocating.
+    double stringEnergy() const;
+    // RT: the obstacles' part of H^{n-1/2} from the solver's own contact displacements (the
+    // quadratised energy for that method), without allocating; the residual compliance's spring
+    // is left out (energy() has it).
+    double obstacleEnergy() const;
+    // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H.
+    double pickupCompliance() const;
+
+    // RT: new frequencies and damping for every mode (omega, sigma: M values each, rad/s and 1/s),
+    // the residual compliance scaled by `complianceScale` from the configured one (1/r^2 when every
+    // frequency is scaled by r) and the pickup weights by `pickupScale`. The state (q^n, q^{n-1})
+    // carries over. No allocation.
+    void retune(const double* omega, const double* sigma, double complianceScale, double pickupScale = 1.0);
+    // RT: the law and height of contact point j (the obstacle's automation). No allocation.
+    void setContact(int j, const ContactLaw& law, double height);
+    const ContactPoint& contact(int j) const { return contacts_[size_t(j)]; }
+    const std::vector<double>& omega() const { return omega_; }
+    const std::vector<double>& sigma() const { return sigma_; }
+    // RT: u(x_k) = sum_p q_p^n shapes[k M + p] for `count` points, with shapes[k M + p] = phi_p(x_k)
+    // tabulated by the caller (the editor's drawing of the string). No allocation.
+    void displacementAt(const double* shapes, int count, double* out);
+
+    // RT: the string released from rest at the given modal displacement (M values), q^{-1} from
+    // each mode's exact free motion as in setInitialDisplacement(). Only the active modes take it
+    // (all of them with keepEveryMode). No allocation.
+    void startFrom(const double* modalDisplacement);
+
+    // RT: the string at rest at zero (after a blow-up), without touching the tables.
+    void resetToRest();
+    // RT: take the string state of another solver of the same modes (a new obstacle or contact
+    // model handed over from the control thread). No allocation.
+    void takeMotionFrom(ModalSolver& other);
+
+    int modeCount() const { return M_; }
+    // Modes actually stepped: a mode that no contact point couples to (phi_p(x_j) = 0 for every j,
+    // to 1e-13 of the largest) and that starts at zero (to 1e-13 of the largest mode) stays at
+    // zero, so it is skipped (the centre obstacle and centre pluck leave every even mode out).
+    // Projection path only.
+    int activeModeCount() const { return state_.activeCount(); }
+    int contactCount() const { return P_; }
+    bool usesTransform() const { return transform_ != nullptr; }
+    double timeStep() const { return dt_; }
+
+    double pickup() const { return pickup_; }                       // RT: sum h_p q_p^n
+    int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
+    double lastMaxPenetration() const { return lastPenetration_; }  // RT: max_j g_j - u_j^n (m)
+
+    // OFF: the full modal state, q^n (previous = false) or q^{n-1}.
+    std::vector<double> modalState(bool previous = false);
+
+    // H^{n-1/2} of docs/design.md section 2 from the stored (q^n, q^{n-1}), contact part
+    // recomputed from the modal state (not from the solver's bookkeeping). CT/OFF.
+    struct Energy
+    {
+        double total = 0.0;
+        double contact = 0.0;  // sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2
+    };
+    Energy energy();
+    // The losses of a step for full states (q^{n+1}, q^{n-1}):
+    //   H^{n+1/2} - H^{n-1/2} = -sum mu (1-e_p) ((q^{n+1}-q^{n-1})/(2dt))^2.
+    double stepLoss(const double* next, const double* previous) const;
+
+    const std::vector<ExactModeCoefficients>& coefficients() const { return coeffs_; }
+
+private:
+    // Construction, in stages.
+    void buildModeTables(const ModalSolverConfig& config);
+    void buildContactShapes(const ModalSolverConfig& config);
+    void markCoupledModes(const ModalSolverConfig& config);
+    Eigen::MatrixXd stringResponse() const;
+    void prepareContactMethods(const ModalSolverConfig& config, Eigen::MatrixXd A);
+
+    void stepSingle();  // one pass per step: many points, the transform path, or a force
+    void stepPaired();  // one pass per two steps: at most one point (projection)
+    void predictAtPoints(bool fused);
+    void applyContactForces();
+    void endSingleStep();
+    double solveOnePoint(double uTilde);  // contact at the single point; returns its slope G
+    int solveContacts();                  // slope_ from s_, b_ by the configured method
+    void fullState(std::vector<double>& current, std::vector<double>& previous) const;
+    double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
+    void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
+    void projectActive(const double* qActive, double* u) const;
+    void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
+
+    int M_ = 0;  // modes of the model
+    int P_ = 0;
+    double dt_ = 0.0;
+    double mu_ = 0.0;
+    double lengthMetres_ = 0.0;
+    double forceScale_ = 0.0;                            // dt^2 / mu
+    std::vector<ExactModeCoefficients> coeffs_;          // all M modes
+    std::vector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
+    double releaseSigma_ = 0.0;
+    std::vector<double> basePickupWeights_;
+    std::vector<double> omega_, sigma_, pickupWeights_;
+    std::vector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
+    std::vector<char> coupled_;            // mode p touches some contact point
+    std::vector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
+
+    ModalState state_;
+    double externalForce_ = 0.0;  // N
+    double pickupPhiE_ = 0.0;     // (dt^2/mu) h . phi_e
+    double pairContact2_ = 0.0, pairPickup2_ = 0.0;
+
+    std::vector<double> pickupPhiW_;   // (dt^2/mu) w_j (h . phi_j)
+    Eigen::MatrixXd stringCoupling_;   // A = (dt^2/mu) Phi Phi^T W: the string's response at the points
+    Eigen::MatrixXd couplingScratch_;  // A + C W, rebuilt on the audio thread by a retune
+    Eigen::MatrixXd pointCoupling_;    // (A + C W) W^{-1}: response at the points per newton
+    ResidualCompliance compliance_;
+    ContactMethod method_ = ContactMethod::energyConserving;
+    ContactSystem system_;  // the energy-conserving Newton
+    QuadratisedContact quadratised_;
+    std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_, penetration_, pointForce_;
+    std::vector<ContactPoint> contacts_;
+    std::unique_ptr<GridTransform> transform_;
+    double pickup_ = 0.0;
+    double pickupTilde_ = 0.0;
+    int lastIterations_ = 0;
+    double lastPenetration_ = 0.0;
+};
+
+}  // namespace jawari

@@ -1,0 +1,172 @@
+#include "physics/ModalState.h"
+
+#include "physics/ModalKernels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace jawari
+{
+
+void ModalState::compact(const std::vector<char>& coupled, const std::vector<double>& current,
+                         const std::vector<double>& previous, const std::vector<double>& excitationShape,
+                         const std::vector<double>& contactShapes, int contactCount, bool exactSize, bool pairable)
+{
+    M_ = static_cast<int>(current.size());
+    contactCount_ = contactShapes.empty() ? 0 : contactCount;
+    pairable_ = pairable;
+    double largest = 0.0;
+    for (int p = 0; p < M_; ++p)
+        largest = std::max({largest, std::abs(current[p]), std::abs(previous[p])});
+    const double stateFloor = 1e-13 * largest;
+    active_.clear();
+    for (int p = 0; p < M_; ++p)
+        if (coupled[p] || std::abs(current[p]) > stateFloor || std::abs(previous[p]) > stateFloor)
+            active_.push_back(p);
+    Ma_ = static_cast<int>(active_.size());
+    // Padding to whole blocks keeps the kernels off their scalar tail loops (a = e = h = phi = 0).
+    Mpad_ = exactSize ? Ma_ : (Ma_ + kernels::kBlock - 1) / kernels::kBlock * kernels::kBlock;
+    activeNormal_.resize(Ma_);
+    activeReleased_.resize(Ma_);
+    indexOfMode_.assign(M_, -1);
+    // stride_ * 8 bytes = 576 (mod 4096): consecutive arrays sit 9 cache lines apart modulo 4 KiB.
+    stride_ = (Mpad_ + 7) / 8 * 8;
+    while ((stride_ * 8) % 4096 != 576)
+        stride_ += 8;
+    const int arrays = 9 + contactCount_;
+    storage_.assign(static_cast<size_t>(stride_) * arrays + 8, 0.0);
+    double* base = storage_.data();
+    while (reinterpret_cast<std::uintptr_t>(base) % 64 != 0)
+        ++base;
+    double* next = base;
+    for (double** array : {&aNormal_, &eNormal_, &aReleased_, &eReleased_, &h_, &q_, &qPrev_, &settled_, &phiE_})
+    {
+        *array = next;
+        next += stride_;
+    }
+    phi_ = contactCount_ > 0 ? next : nullptr;
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const int p = active_[i];
+        indexOfMode_[p] = i;
+        q_[i] = current[p];
+        qPrev_[i] = previous[p];
+        phiE_[i] = excitationShape.empty() ? 0.0 : excitationShape[p];
+    }
+    released_ = false;
+    a_ = aNormal_;
+    e_ = eNormal_;
+    for (int j = 0; j < contactCount_; ++j)
+        for (int i = 0; i < Ma_; ++i)
+            phi_[size_t(j) * stride_ + i] = contactShapes[size_t(j) * M_ + active_[i]];
+    layout_ = Layout::single;
+    c1_ = c2_ = 0.0;
+}
+
+void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
+                            const std::vector<ExactModeCoefficients>& released,
+                            const std::vector<double>& pickupWeights)
+{
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const int p = active_[i];
+        activeNormal_[i] = normal[p];
+        activeReleased_[i] = released[p];
+        aNormal_[i] = normal[p].a;
+        eNormal_[i] = normal[p].e;
+        aReleased_[i] = released[p].a;
+        eReleased_[i] = released[p].e;
+        h_[i] = pickupWeights[p];
+    }
+    for (int set = 0; set < 2; ++set)
+    {
+        const double* a = set == 0 ? aNormal_ : aReleased_;
+        sumAPhiSquared_[set] = sumAPhiH_[set] = 0.0;
+        if (pairable_ && contactCount_ == 1)
+            for (int i = 0; i < Ma_; ++i)
+            {
+                sumAPhiSquared_[set] += a[i] * phi_[i] * phi_[i];
+                sumAPhiH_[set] += a[i] * phi_[i] * h_[i];
+            }
+    }
+}
+
+ModalState::Mode ModalState::mode(int i) const
+{
+    const double* phi = singlePhi();
+    const double ph = phi != nullptr ? phi[i] : 0.0;
+    switch (layout_)
+    {
+        case Layout::single: break;
+        case Layout::pairBoundary: return {q_[i] + (c1_ * a_[i] + c2_) * ph, qPrev_[i] + c1_ * ph};
+        case Layout::pairMiddle: return {qPrev_[i] + c1_ * ph, settled_[i]};
+    }
+    return {q_[i], qPrev_[i]};
+}
+
+void ModalState::toSingle()
+{
+    if (layout_ == Layout::single)
+        return;
+    for (int i = 0; i < Mpad_; ++i)
+    {
+        const Mode m = mode(i);
+        q_[i] = m.now;
+        qPrev_[i] = m.before;
+    }
+    c1_ = c2_ = 0.0;
+    layout_ = Layout::single;
+}
+
+void ModalState::beginPairs()
+{
+    if (layout_ != Layout::single)
+        return;
+    layout_ = Layout::pairBoundary;  // q = q^n, qPrev = q^{n-1}: the boundary form with c = 0
+    c1_ = c2_ = 0.0;
+}
+
+void ModalState::setPairMiddle(double c1)
+{
+    c1_ = c1;
+    c2_ = 0.0;
+    layout_ = Layout::pairMiddle;
+}
+
+void ModalState::setPairBoundary(double c2)
+{
+    c2_ = c2;
+    layout_ = Layout::pairBoundary;
+}
+
+void ModalState::useReleased(bool released)
+{
+    if (released == released_)
+        return;
+    toSingle();  // the paired layout's corrections use the coefficients of its pass
+    released_ = released;
+    a_ = released ? aReleased_ : aNormal_;
+    e_ = released ? eReleased_ : eNormal_;
+}
+
+void ModalState::swapSingle()
+{
+    std::swap(q_, qPrev_);
+}
+
+void ModalState::clear()
+{
+    std::fill(q_, q_ + Mpad_, 0.0);
+    std::fill(qPrev_, qPrev_ + Mpad_, 0.0);
+    std::fill(settled_, settled_ + Mpad_, 0.0);
+    restartSingle();
+}
+
+void ModalState::restartSingle()
+{
+    layout_ = Layout::single;
+    c1_ = c2_ = 0.0;
+}
+
+}  // namespace jawari

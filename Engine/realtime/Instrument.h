@@ -1,0 +1,233 @@
+#pragma once
+// The playable instrument behind the plugin (no JUCE): eight MIDI voices and the four strings of
+// the tanpura drone, all of one string type against one obstacle (each string with its own copy of
+// it), mixed to stereo.
+//
+// What needs new tables (string type, obstacle shape/position/width, pluck and pickup points,
+// inharmonicity, quality, method, release time, host rate) is an InstrumentStructure: a VoicePack
+// is built for it OFF the audio thread and installed at a block boundary, each string carrying its
+// motion over when the modes match. Everything else is InstrumentControls, applied on the audio
+// thread every chunk of 32 samples, smoothed: the note's pitch and bend (every mode's frequency
+// scaled, docs/design.md section 1), the obstacle's height, stiffness and exponent, the damping law's
+// constants, a global decay scale and a per-mode damping curve, the output gain.
+
+#include "physics/ContactLaw.h"
+#include "physics/Obstacle.h"
+#include "physics/StringModel.h"
+#include "realtime/Quality.h"
+#include "realtime/SnapshotBuffer.h"
+#include "realtime/Voice.h"
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace jawari
+{
+
+// The strings the instrument can be strung with. The tension sets each string's own pitch; a note
+// retunes it (tension and bending stiffness scaled together: length, mass and B stay).
+struct StringType
+{
+    const char* name;
+    double lengthMetres;
+    double linearDensity;  // kg/m
+    double diameterMetres;
+    double fundamentalHz;  // the flexible string's f0 at its tension
+    double inharmonicity;  // default B
+};
+inline constexpr StringType kStringTypes[] = {
+    {"steel (paper)", 1.002, 1.17e-3, 0.43e-3, 195.998, 1.78e-5},  // the paper's string
+    {"sitar steel", 0.90, 0.55e-3, 0.30e-3, 220.0, 1.0e-5},
+    {"bass E", 0.864, 20.0e-3, 2.6e-3, 41.2, 1.2e-4},
+};
+inline constexpr int kStringTypeCount = static_cast<int>(sizeof(kStringTypes) / sizeof(kStringTypes[0]));
+
+enum class ObstacleShape
+{
+    point,     // one point at `position`, `width` of string
+    parabola,  // a curved bridge: apex at `position`, extent `width`, curvature `curvature`
+    frets      // five frets at x = L 2^(-k/12), k = 1..5 (from the far end), each `width` wide
+};
+
+struct InstrumentStructure
+{
+    int stringType = 0;
+    ObstacleShape shape = ObstacleShape::point;
+    double obstaclePosition = 0.5;  // fraction of the length
+    double obstacleWidth = 1e-3;    // m
+    double curvature = 2.0;         // 1/m (parabola)
+    double pluckPosition = 0.5;     // fraction of the length
+    double pickupPosition = 0.99;   // fraction of the length
+    double inharmonicity = 1.78e-5;
+    int quality = 0;  // index into kQualitySettings (draft: eight strings in real time)
+    ContactMethod method = ContactMethod::energyConserving;
+    double releaseSeconds = 0.4;
+    double hostRateHz = 48000.0;
+
+    bool operator==(const InstrumentStructure&) const = default;
+};
+
+inline constexpr int kDampingCurvePoints = 12;     // the per-mode damping curve: log-spaced 20 Hz .. 20 kHz
+inline constexpr double kDampingCurveMin = 0.125;  // its multipliers' range
+inline constexpr double kDampingCurveMax = 8.0;
+
+struct InstrumentControls
+{
+    double obstacleHeight = 0.0;                   // m, > 0 pushes into the string
+    double stiffness = 1e13;                       // K
+    double exponent = 1.3;                         // alpha
+    double decayScale = 1.0;                       // multiplies every mode's damping
+    double airScale = 1.0;                         // multiplies the air viscosity of Valette's law
+    double deltaVe = DampingParameters{}.deltaVe;  // viscoelastic loss angle
+    double qTeInv = DampingParameters{}.qTeInv;    // thermoelastic 1/Q
+    std::array<double, kDampingCurvePoints> dampingCurve{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};  // multipliers
+    double gainDb = 0.0;
+    double bendRangeSemitones = 2.0;
+    double tuningA4Hz = 440.0;
+    // Tanpura drone.
+    bool drone = false;
+    int droneTonic = 49;     // MIDI note of Sa (C#3)
+    int droneFirst = 0;      // first string: 0 Pa, 1 Ma, 2 Ni, 3 Sa
+    double droneTempo = 60;  // plucks per minute
+    double humanise = 0.2;   // 0..1: timing and strength spread
+    double droneStrength = 0.7;
+};
+
+// The frequency of the damping curve's point i (Hz) and the curve's multiplier at f (log-log
+// interpolation, flat beyond the ends). RT.
+double dampingCurveFrequency(int i);
+double dampingCurveAt(const std::array<double, kDampingCurvePoints>& curve, double frequencyHz);
+
+// The obstacles an InstrumentStructure stands for, at a given height offset. OFF.
+std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const ContactLaw& law, double height);
+StringParameters instrumentString(const InstrumentStructure& s);
+// M and the oversampling of the structure's quality at its host rate.
+VoiceQuality instrumentQuality(const InstrumentStructure& s);
+
+inline constexpr int kMidiVoices = 8;
+inline constexpr int kDroneStrings = 4;
+inline constexpr int kSlots = kMidiVoices + kDroneStrings;
+inline constexpr int kDrawPoints = 96;
+
+// Everything built for one structure. OFF to build and to free.
+struct VoicePack
+{
+    InstrumentStructure structure;
+    StringParameters string;
+    double baseFundamentalHz = 0.0;              // mode 1 of the built string
+    std::vector<std::unique_ptr<Voice>> voices;  // kSlots
+    std::vector<double> sigma;                   // kSlots x M: scratch for retunes
+    std::vector<double> drawShapes;              // kDrawPoints x M: phi_p at the drawing points
+    std::vector<double> drawObstacle;            // kDrawPoints: obstacle height at height 0, or NaN
+    int modes = 0;
+    int latencySamples = 0;
+    // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
+    // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
+    double outputScale = 120.0;
+
+    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...).
+    void takeMotionFrom(VoicePack& other);
+};
+
+std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure);
+
+// What the editor draws, published by the audio thread without locks (SnapshotBuffer).
+struct InstrumentSnapshot
+{
+    std::array<float, kDrawPoints> shape{};     // the loudest string's displacement (m)
+    std::array<float, kDrawPoints> obstacle{};  // obstacle height (m) or NaN where none
+    float energy = 0.0f;                        // J, all strings
+    float penetration = 0.0f;                   // deepest penetration this chunk (m)
+    int maxIterations = 0;
+    int activeStrings = 0;
+    long blowUps = 0;
+    uint64_t sequence = 0;
+};
+
+class Instrument
+{
+public:
+    Instrument();
+
+    // RT: installs a pack (the caller keeps ownership and frees the previous one OFF). When
+    // `previous` is given and has the same modes, each string keeps sounding.
+    void install(VoicePack* pack, VoicePack* previous);
+    VoicePack* pack() const { return pack_; }
+
+    void noteOn(int note, double velocity);                                       // RT, velocity 0..1
+    void noteOff(int note);                                                       // RT
+    void sustain(bool down);                                                      // RT
+    void pitchBend(double amount);                                                // RT, -1..1 of the bend range
+    void allNotesOff();                                                           // RT: every MIDI string released
+    void setControls(const InstrumentControls& controls) { target_ = controls; }  // RT
+
+    // RT: numSamples of stereo at the host rate, replacing what is in left/right.
+    void render(float* left, float* right, int numSamples);
+
+    SnapshotBuffer<InstrumentSnapshot>& snapshots() { return snapshots_; }
+    int activeStrings() const;
+    long blowUps() const;
+    int maxIterations() const { return maxIterations_; }  // the most of any step since construction
+    long dronePlucks() const { return dronePlucks_; }
+    // The pitch ratio and note a slot plays (tests).
+    double slotRatio(int slot) const { return slots_[size_t(slot)].ratio; }
+    int slotNote(int slot) const { return slots_[size_t(slot)].note; }
+
+    static constexpr int kChunk = 32;
+
+private:
+    struct Slot
+    {
+        int note = -1;
+        bool held = false, sustained = false, sounding = false;
+        uint64_t age = 0;
+        double ratio = 1.0;  // the ratio the voice is tuned to
+        double peakEnergy = 0.0;
+        // A steal: the string fades out over kFadeSamples, then the pending note starts from rest.
+        int fade = -1;
+        int pendingNote = -1;
+        double pendingVelocity = 0.0;
+        bool pendingHeld = false, pendingSustained = false;
+        double pan = 0.0;  // -1 .. 1
+    };
+    void start(int slot, int note, double velocity);
+    void retune(int slot);
+    double noteRatio(double note) const;
+    void applyContact();
+    void dronePluck(int string);
+    void scheduleDrone(int samples);
+    void publishSnapshot();
+    void smoothControls(int count, double rate);
+    void retuneSounding(int count, double rate);
+    void renderString(int slot, float* left, float* right, int count, double gainStart);
+    void startPendingNote(int slot);
+    static void limitOutput(float* left, float* right, int numSamples);
+
+    VoicePack* pack_ = nullptr;
+    int fadeLength_ = 1;  // a steal's fade-out, host samples
+    std::array<Slot, kSlots> slots_{};
+    InstrumentControls target_, current_;
+    bool dampingDirty_ = true;
+    double bend_ = 0.0, bendSmoothed_ = 0.0;
+    bool sustain_ = false;
+    uint64_t clock_ = 0;
+    double gain_ = 1.0;
+    std::vector<double> scratch_;
+    bool droneOn_ = false;
+    double droneCountdown_ = 0.0;  // host samples to the next drone pluck
+    int droneNext_ = 0;
+    long dronePlucks_ = 0;
+    uint32_t random_ = 0x2545F491u;
+    double nextRandom();  // uniform -1..1
+    int maxIterations_ = 0;
+    int chunksSinceSnapshot_ = 0;
+    uint64_t chunkClock_ = 0;
+    double chunkPenetration_ = 0.0;
+    SnapshotBuffer<InstrumentSnapshot> snapshots_;
+    uint64_t snapshotSequence_ = 0;
+};
+
+}  // namespace jawari

@@ -1,0 +1,40 @@
+#pragma once
+// How much model a voice runs: M modes and the oversampling R / host rate (docs/design.md
+// section 5), and the named settings a player chooses from. (The automatic choice for a scene is
+// offline/AutomaticQuality.h.) OFF.
+
+#include "physics/StringModel.h"
+
+#include <optional>
+#include <string>
+
+namespace jawari
+{
+
+struct VoiceQuality
+{
+    int modes = 0;
+    int oversampling = 1;
+};
+
+struct QualitySetting
+{
+    const char* name;
+    double highestModeHz;  // keep the modes up to this frequency
+    double minimumRateHz;  // and run at least this fast (a whole multiple of the host rate)
+};
+
+// From cheap to the paper's configuration in real time.
+inline constexpr QualitySetting kQualitySettings[] = {
+    {"draft", 24000.0, 192000.0},
+    {"standard", 48000.0, 384000.0},
+    {"high", 96000.0, 768000.0},
+    {"paper", 0.0, 1000000.0},  // every mode of the paper's grid (1001 for its string), >= 1 MHz
+};
+
+std::optional<QualitySetting> qualityByName(const std::string& name);
+
+// M and the oversampling a setting gives for a string at a host rate.
+VoiceQuality resolveQuality(const QualitySetting& setting, const StringParameters& string, double hostRateHz);
+
+}  // namespace jawari

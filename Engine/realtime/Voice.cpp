@@ -1,0 +1,253 @@
+#include "realtime/Voice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace jawari
+{
+
+ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
+{
+    const auto& s = config.string;
+    const int M = config.modes;
+    ModalSolverConfig c = stringSolverConfig(s, config.obstacles, M, config.oversampling * config.hostRateHz,
+                                             config.pickupPosition, config.quantity);
+    if (config.reach)
+        std::erase_if(c.contacts, [&](const ContactPoint& p) { return p.height + config.reach(p.position) <= 0.0; });
+    if (config.residualCompliance && !c.contacts.empty())
+    {
+        // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is
+        // below 1e-5 of the whole even for a flexible string (terms ~ 1/p^2; ~1/p^4 when stiff).
+        const int P = static_cast<int>(c.contacts.size());
+        const int last = M + 50000;
+        const auto dropped = buildModalTable(s, last);
+        c.contactCompliance.assign(size_t(P) * P, 0.0);
+        std::vector<double> shape(P);
+        for (int p = M + 1; p <= last; ++p)
+        {
+            const double w = dropped.omega[p - 1];
+            const double inverseStiffness = 1.0 / (s.linearDensity * w * w);
+            for (int i = 0; i < P; ++i)
+                shape[i] = modeShape(s.lengthMetres, p, c.contacts[i].position);
+            for (int i = 0; i < P; ++i)
+                for (int j = 0; j < P; ++j)
+                    c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
+        }
+    }
+    c.method = config.method;
+    c.excitationPosition = config.excitationPosition;
+    c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
+    c.keepEveryMode = config.keepEveryMode;
+    return c;
+}
+
+Voice::Voice(const VoiceConfig& config)
+    : Voice(config, voiceSolverConfig(config))
+{}
+
+Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
+    : solver_(solverConfig)
+    , decimator_(config.oversampling, config.hostRateHz)
+    , oversampling_(config.oversampling)
+    , hostRate_(config.hostRateHz)
+    , quantity_(config.quantity)
+    , dt_(1.0 / (config.oversampling * config.hostRateHz))
+{
+    baseOmega_ = solverConfig.modes.omega;
+    baseFrequencyHz_ = solverConfig.modes.frequencyHz;
+    omegaScratch_.assign(baseOmega_.size(), 0.0);
+    for (int j = 0; j < solver_.contactCount(); ++j)
+        baseHeights_.push_back(solver_.contact(j).height);
+    unitPluck_ = pluckModalShape(config.string.lengthMetres, solver_.modeCount(), config.excitationPosition, 1.0);
+    pluckScratch_.assign(unitPluck_.size(), 0.0);
+    block_.assign(oversampling_, 0.0);
+    lengthMetres_ = config.string.lengthMetres;
+    pickupCompliance_ = solver_.pickupCompliance();
+    runawayLimit_ = 0.0;
+    pulseSteps_ = std::max<long>(1, std::lround(config.pluckSeconds / dt_));
+    pluckForce_ = config.pluckForceNewtons;
+    pulseStep_ = -1;  // no pulse running
+}
+
+void Voice::setInitialShape(double position, double amplitudeMetres)
+{
+    solver_.setInitialDisplacement(pluckModalShape(lengthMetres_, solver_.modeCount(), position, amplitudeMetres));
+    first_ = true;
+    decimator_.reset();
+    raiseCeiling();
+}
+
+void Voice::pluckWithPulse(double velocity)
+{
+    // Scaled with the tuning (tension ~ ratio^2): the pulse moves the string as far at any pitch.
+    pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_ * ratio_ * ratio_;
+    pulseStep_ = 0;
+    runawayLimit_ = std::numeric_limits<double>::infinity();  // until the pulse is over (only NaN is caught)
+}
+
+void Voice::pluckFromShape(double amplitudeMetres)
+{
+    for (size_t p = 0; p < unitPluck_.size(); ++p)
+        pluckScratch_[p] = amplitudeMetres * unitPluck_[p];
+    solver_.setExternalForce(0.0);
+    solver_.startFrom(pluckScratch_.data());
+    decimator_.reset();
+    std::fill(block_.begin(), block_.end(), 0.0);
+    first_ = true;
+    pulseStep_ = -1;
+    raiseCeiling();
+}
+
+void Voice::raiseCeiling()
+{
+    // For the displacement |u| <= sqrt(2 H G); velocity and force get the same margin on H through
+    // the pickup's own weights (h^2 / (mu w^2) already carries their units squared over J). H
+    // counts what the obstacles hold: a string started inside one is launched by that energy.
+    energyCeiling_ = std::max(energyCeiling_, solver_.stringEnergy() + solver_.obstacleEnergy());
+    runawayLimit_ = 4.0 * std::sqrt(2.0 * energyCeiling_ * pickupCompliance_);
+    if (quantity_ == PickupQuantity::velocity)
+        runawayLimit_ *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
+}
+
+void Voice::release()
+{
+    solver_.setReleased(true);
+}
+
+void Voice::cancelRelease()
+{
+    solver_.setReleased(false);
+}
+
+double Voice::nextInternalSample()
+{
+    if (pulseStep_ >= 0)
+    {
+        if (pulseStep_ < pulseSteps_)
+        {
+            // Raised-cosine force pulse: smooth on and off, so a sounding string is plucked without a click.
+            const double phase = (double(pulseStep_) + 0.5) / double(pulseSteps_);
+            solver_.setExternalForce(pulsePeak_ * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase)));
+            ++pulseStep_;
+        }
+        else
+        {
+            solver_.setExternalForce(0.0);
+            pulseStep_ = -1;
+            raiseCeiling();
+        }
+    }
+    if (first_)
+    {
+        // The stream starts at u^0, like the reference's (sample n is the string at t = n dt).
+        y_ = solver_.pickup();
+        yPrevious_ = y_;
+        first_ = false;
+    }
+    solver_.step();
+    const double yNext = solver_.pickup();
+    maxIterations_ = std::max(maxIterations_, solver_.lastIterations());
+    iterationCount_ += solver_.lastIterations();
+    if (solver_.contactCount() > 0)
+        maxPenetration_ = std::max(maxPenetration_, solver_.lastMaxPenetration());
+    double sample = y_;
+    if (quantity_ == PickupQuantity::velocity)
+        sample = (yNext - yPrevious_) / (2.0 * dt_);
+    yPrevious_ = y_;
+    y_ = yNext;
+    return sample;
+}
+
+void Voice::process(double* out, int numSamples)
+{
+    for (int m = 0; m < numSamples; ++m)
+    {
+        for (int i = 0; i < oversampling_; ++i)
+            block_[i] = nextInternalSample();
+        out[m] = decimator_.process(block_.data());
+        if (!(std::abs(out[m]) <= runawayLimit_))  // also catches NaN
+        {
+            // A method that lost stability (the penalty force, for one): no NaN and no blast
+            // reaches the speakers; the string restarts from rest.
+            ++blowUps_;
+            silence();
+            out[m] = 0.0;
+        }
+    }
+}
+
+void Voice::takeMotionFrom(Voice& other)
+{
+    solver_.takeMotionFrom(other.solver_);
+    solver_.setReleased(other.solver_.released());
+    y_ = other.y_;
+    yPrevious_ = other.yPrevious_;
+    first_ = other.first_;
+    pulseStep_ = other.pulseStep_;
+    pulsePeak_ = other.pulsePeak_;
+    decimator_ = other.decimator_;  // same factor and length: a copy of equal-sized vectors, no allocation
+    energyCeiling_ = other.energyCeiling_;
+    if (pulseStep_ >= 0)
+        runawayLimit_ = std::numeric_limits<double>::infinity();
+    else if (energyCeiling_ > 0.0)
+        raiseCeiling();
+}
+
+void Voice::retune(double ratio, const double* sigma)
+{
+    const double previous = ratio_;
+    ratio_ = ratio;
+    for (size_t p = 0; p < baseOmega_.size(); ++p)
+        omegaScratch_[p] = ratio * baseOmega_[p];
+    const double pickupScale = quantity_ == PickupQuantity::force ? ratio * ratio : 1.0;
+    solver_.retune(omegaScratch_.data(), sigma, 1.0 / (ratio * ratio), pickupScale);
+    pickupCompliance_ = solver_.pickupCompliance();
+    // The same motion at a higher pitch holds more energy (the tension works): the ceiling follows.
+    energyCeiling_ *= std::max(1.0, (ratio * ratio) / (previous * previous));
+    if (pulseStep_ < 0 && energyCeiling_ > 0.0)
+        raiseCeiling();
+}
+
+void Voice::setContactLaw(const ContactLaw& law, double heightOffset)
+{
+    for (int j = 0; j < solver_.contactCount(); ++j)
+        solver_.setContact(j, law, baseHeights_[size_t(j)] + heightOffset);
+}
+
+void Voice::silence()
+{
+    solver_.resetToRest();
+    solver_.setReleased(false);
+    decimator_.reset();
+    std::fill(block_.begin(), block_.end(), 0.0);
+    y_ = yPrevious_ = 0.0;
+    first_ = true;
+    pulseStep_ = -1;
+    energyCeiling_ = 0.0;
+    runawayLimit_ = 0.0;
+}
+
+int Voice::takeMaxIterations()
+{
+    const int m = maxIterations_;
+    maxIterations_ = 0;
+    return m;
+}
+
+long Voice::takeIterationCount()
+{
+    const long n = iterationCount_;
+    iterationCount_ = 0;
+    return n;
+}
+
+double Voice::takeMaxPenetration()
+{
+    const double m = maxPenetration_;
+    maxPenetration_ = 0.0;
+    return m;
+}
+
+}  // namespace jawari

@@ -1,0 +1,136 @@
+#pragma once
+// The real-time voice (docs/design.md section 2, "The real-time engine"; section 5): M truncated modes,
+// contact points only where obstacles are, an internal rate R = oversampling x host rate, and a
+// decimator to the host rate. What the plugin plays and `jawari-render --method realtime` runs.
+//
+// Construction is OFF (tables, contact matrices, filter design). The plucks, release(), process()
+// and takeMotionFrom() are RT: no allocation, no locks, no I/O.
+
+#include "physics/ModalSolver.h"
+#include "physics/Obstacle.h"
+#include "physics/StringDiscretisation.h"
+#include "physics/StringModel.h"
+#include "realtime/Decimator.h"
+
+#include <functional>
+#include <vector>
+
+namespace jawari
+{
+
+struct VoiceConfig
+{
+    StringParameters string;
+    std::vector<Obstacle> obstacles;
+    double excitationPosition = 0.501;  // where the plucks act (m)
+    double pickupPosition = 0.992;      // m
+    PickupQuantity quantity = PickupQuantity::displacement;
+    int modes = 200;       // M
+    int oversampling = 8;  // R / host rate
+    double hostRateHz = 48000.0;
+    double releaseSeconds = 0.25;    // note-off: every mode gains damping ln(1000)/releaseSeconds
+    double pluckSeconds = 1.5e-3;    // the pluck's force pulse (raised cosine) lasts this long
+    double pluckForceNewtons = 2.0;  // its peak force at velocity 1
+    // The dropped modes' static compliance in series with the contact (docs/design.md section 5). Off,
+    // the voice is plain truncation (and equals the reference when M = N - 1).
+    bool residualCompliance = true;
+    ContactMethod method = ContactMethod::energyConserving;
+    // Step every mode (see ModalSolverConfig::keepEveryMode): the plugin's voices.
+    bool keepEveryMode = false;
+    // How far the string can ever move at x (m), when known (a scene plucked once: reachAt in
+    // Quality.h): contact points with g + reach <= 0 are left out. Empty: every point is kept.
+    std::function<double(double)> reach;
+};
+
+class Voice
+{
+public:
+    explicit Voice(const VoiceConfig& config);  // OFF
+    // OFF: with the solver configuration already built (voiceSolverConfig(config)): several voices
+    // of one string share the work of building it.
+    Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig);
+
+    int modes() const { return solver_.modeCount(); }
+    int activeModes() const { return solver_.activeModeCount(); }
+    int contactPoints() const { return solver_.contactCount(); }
+    int oversampling() const { return oversampling_; }
+    double internalRateHz() const { return oversampling_ * hostRate_; }
+    int latencySamples() const { return decimator_.latencyHostSamples(); }  // host samples
+
+    // OFF: the string at rest in the triangular shape of the given amplitude at x (the scene's
+    // pluck), as the reference starts.
+    void setInitialShape(double position, double amplitudeMetres);
+
+    void pluckWithPulse(double velocity);  // RT: a force pulse at the excitation point; works while sounding
+    // RT: the string released from the triangular shape of the given amplitude (m) at the
+    // excitation point: the paper's pluck (setInitialShape() without allocating). From rest only:
+    // whatever the string was doing is replaced.
+    void pluckFromShape(double amplitudeMetres);
+    void release();                             // RT: note-off, the string rings down over releaseSeconds
+    void cancelRelease();                       // RT: back to the string's own damping (a new note)
+    void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
+    void takeMotionFrom(Voice& other);          // RT: same string and modes, new obstacles/contact
+
+    // RT: every mode's frequency scaled by `ratio` from the configured string (the note's pitch:
+    // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
+    // sigma (1/s, M values) given for the new frequencies. The residual compliance follows (1/r^2).
+    void retune(double ratio, const double* sigma);
+    double tuningRatio() const { return ratio_; }
+    // The configured modes' frequencies (Hz), before any retune.
+    const std::vector<double>& baseFrequencies() const { return baseFrequencyHz_; }
+    // RT: the obstacles' law and a height offset (m) from their configured heights, every contact point.
+    void setContactLaw(const ContactLaw& law, double heightOffset);
+    // RT: the string's energy (J) without the contact part.
+    double stringEnergy() const { return solver_.stringEnergy(); }
+    // RT: the string at rest, output and pulse cleared (a stolen voice before its new note).
+    void silence();
+
+    // RT: how many times the voice found its output non-finite or running away and put the string
+    // back at rest, muting instead of sending it on. Running away: beyond 4 sqrt(2 H G), with G the
+    // static compliance seen by the pickup and H the most energy the string has legitimately had
+    // (measured after the initial shape and after each pluck pulse): no physical motion gets there.
+    long blowUps() const { return blowUps_; }
+
+    // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
+    // since the last call.
+    int takeMaxIterations();
+    long takeIterationCount();  // RT: Newton iterations summed over the internal steps since the last call
+    double takeMaxPenetration();
+    ModalSolver& solver() { return solver_; }
+
+private:
+    double nextInternalSample();
+
+    ModalSolver solver_;
+    Decimator decimator_;
+    int oversampling_ = 1;
+    double hostRate_ = 48000.0;
+    PickupQuantity quantity_ = PickupQuantity::displacement;
+    double dt_ = 0.0;
+    double lengthMetres_ = 1.0;
+    std::vector<double> block_;  // one host sample's internal samples
+    double y_ = 0.0, yPrevious_ = 0.0;
+    bool first_ = true;
+    // Pluck pulse: the step within it, or -1 when none is running.
+    long pulseStep_ = -1;
+    long pulseSteps_ = 0;
+    double pulsePeak_ = 0.0;
+    double pluckForce_ = 0.0;
+    long blowUps_ = 0;
+    double runawayLimit_ = 1.0;
+    double pickupCompliance_ = 0.0;
+    double energyCeiling_ = 0.0;
+    void raiseCeiling();
+    int maxIterations_ = 0;
+    long iterationCount_ = 0;
+    double maxPenetration_ = 0.0;
+    double ratio_ = 1.0;
+    std::vector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
+    std::vector<double> unitPluck_, pluckScratch_;  // the 1 m triangular pluck's modal shape
+};
+
+// The voice's solver: stringSolverConfig plus the excitation point, the release damping, the
+// contact method and the residual compliance. OFF.
+ModalSolverConfig voiceSolverConfig(const VoiceConfig& config);
+
+}  // namespace jawari
