@@ -162,42 +162,16 @@ ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double
     return {-scale * D, scale * dD};
 }
 
-ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
-                                         const DividedSeries* series, const KnownPower* known)
+namespace
 {
-    ScalarContactSolution sol;
-    if (s <= 0.0 && s - b <= 0.0)
-    {
-        // Out of contact at both ends with the contact-free prediction: G(b) = 0, so r = b exactly.
-        sol.r = b;
-        return sol;
-    }
-    const double K = law.stiffness;
-    const double alpha = law.exponent;
-    const double beta = alpha + 1.0;
-    const double c = k * K / beta;
-    const double d = s - b;
-    const double sAlpha = powerOf(s, alpha, known);
-    const double psiBefore = K / beta * sAlpha * std::max(s, 0.0);
-    // At r = s the string just reaches the obstacle at n+1: phi(s) = s - k psi(s)/s - b = d - c s^alpha.
-    if (d - c * sAlpha <= 0.0)
-    {
-        // The root has r >= s: the string leaves the obstacle. There G(r) = -psi(s)/r and
-        // phi = 0 is r^2 - b r - k psi(s) = 0, whose positive root is taken in a form free of
-        // cancellation. (s > 0 here: for s <= 0, phi(s) = s - b > 0 in contact.)
-        const double disc = std::sqrt(b * b + 4.0 * k * psiBefore);
-        sol.r = b >= 0.0 ? 0.5 * (b + disc) : 2.0 * k * psiBefore / (disc - b);
-        sol.slope = -psiBefore / sol.r;
-        return sol;
-    }
 
-    std::optional<DividedSeries> local;  // built only when needed: constructing it costs a 0.5 KB clear
-    if (series == nullptr || series->exponent != alpha)
-        series = &local.emplace(dividedSeries(alpha));
-    // In contact at n+1: the penetration p = s - r is in (0, d]. The iterate is held as r, which
-    // keeps its relative precision when it is far smaller than s. Every start below is at or right
-    // of the root (p >= root) except the quadratic model's, and from the right Halley's and
-    // Newton's steps on the increasing convex Phi descend to the root without passing it.
+// Where the solve in contact starts: at or right of the root where a bound allows (from the right,
+// Halley's and Newton's steps on the increasing convex Phi descend to the root without passing
+// it), else the root of Phi's quadratic model about s. c = k K / beta, d = s - b, sAlpha = s^alpha.
+double contactStart(const DividedSeries& series, double alpha, double s, double b, double c, double sAlpha)
+{
+    const double beta = alpha + 1.0;
+    const double d = s - b;
     double p = d;
     if (s > 0.0)
     {
@@ -206,7 +180,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         // -A0 A1 / (A1^2 - A0 A2), which is it to a relative O((A0 A2 / A1^2)^2), within the model's own
         // error O(e^3) (and needs no square root); Newton's -A0 / A1 where that step would double it.
         const double cs = c * sAlpha;
-        const double A2 = cs * series->c[2], A1 = cs * series->c[1] + s, A0 = cs * series->c[0] + b;
+        const double A2 = cs * series.c[2], A1 = cs * series.c[1] + s, A0 = cs * series.c[0] + b;
         const double A1squared = A1 * A1, denominator = A1squared - A0 * A2;
         const double e = denominator >= 0.5 * A1squared ? -A0 * A1 / denominator : -A0 / A1;
         const double model = s * (1.0 + e);
@@ -231,7 +205,80 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         p = std::pow(d * (d - s) / c, 1.0 / beta);
     if (!(p > 0.0 && p <= d))
         p = d;
-    double r = std::max(s - p, b);
+    return p;
+}
+
+// One step towards the root of Phi = force - gap (force = c D, gap = r - b) from r, in p = s - r.
+struct ContactStep
+{
+    double step = 0.0;  // in p
+    double force = 0.0;
+    bool far = false;  // a Newton step in log p
+};
+
+ContactStep contactStep(const Divided& v, double c, double s, double r, double b)
+{
+    const double p = s - r;
+    ContactStep out;
+    out.force = c * v.D;
+    const double gap = r - b;
+    const double phi = out.force - gap, dPhi = c * v.dD + 1.0;
+    out.far = gap > 4.0 * out.force || (out.force > 4.0 * gap && gap > 0.01 * p);
+    if (out.far)
+    {
+        // Far from the root, where steps in p creep along the curved D: Newton in z = log p on
+        // F(z) = log(c D) - log(d - p), which is nearly linear in z (D ~ p^alpha) away from
+        // p = d (where the Halley step below serves).
+        const double F = std::log(out.force / gap);
+        const double dF = p * (v.dD / v.D + 1.0 / gap);
+        out.step = p * std::expm1(-F / dF);
+    }
+    else
+    {
+        // Halley, -Phi Phi' / (Phi'^2 - Phi Phi''/2): cubic convergence, from the right of the
+        // root towards it. Where it would step more than twice Newton's -Phi/Phi', Newton's.
+        const double dPhi2 = dPhi * dPhi, denominator = dPhi2 - 0.5 * phi * c * v.d2D;
+        out.step = denominator >= 0.5 * dPhi2 ? -phi * dPhi / denominator : -phi / dPhi;
+    }
+    return out;
+}
+
+}  // namespace
+
+ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
+                                         const DividedSeries* series, const KnownPower* known)
+{
+    ScalarContactSolution sol;
+    if (s <= 0.0 && s - b <= 0.0)
+    {
+        // Out of contact at both ends with the contact-free prediction: G(b) = 0, so r = b exactly.
+        sol.r = b;
+        return sol;
+    }
+    const double K = law.stiffness;
+    const double alpha = law.exponent;
+    const double beta = alpha + 1.0;
+    const double c = k * K / beta;
+    const double sAlpha = powerOf(s, alpha, known);
+    const double psiBefore = K / beta * sAlpha * std::max(s, 0.0);
+    // At r = s the string just reaches the obstacle at n+1: phi(s) = s - k psi(s)/s - b = d - c s^alpha.
+    if ((s - b) - c * sAlpha <= 0.0)
+    {
+        // The root has r >= s: the string leaves the obstacle. There G(r) = -psi(s)/r and
+        // phi = 0 is r^2 - b r - k psi(s) = 0, whose positive root is taken in a form free of
+        // cancellation. (s > 0 here: for s <= 0, phi(s) = s - b > 0 in contact.)
+        const double disc = std::sqrt(b * b + 4.0 * k * psiBefore);
+        sol.r = b >= 0.0 ? 0.5 * (b + disc) : 2.0 * k * psiBefore / (disc - b);
+        sol.slope = -psiBefore / sol.r;
+        return sol;
+    }
+
+    std::optional<DividedSeries> local;  // built only when needed: constructing it costs a 0.5 KB clear
+    if (series == nullptr || series->exponent != alpha)
+        series = &local.emplace(dividedSeries(alpha));
+    // In contact at n+1: the penetration p = s - r is in (0, d]. The iterate is held as r, which
+    // keeps its relative precision when it is far smaller than s.
+    double r = std::max(s - contactStart(*series, alpha, s, b, c, sAlpha), b);
     const double invS = s > 0.0 ? 1.0 / s : 0.0;
 
     constexpr int maxIterations = 100;
@@ -240,28 +287,9 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     for (int it = 1; it <= maxIterations; ++it)
     {
         sol.iterations = it;
-        p = s - r;
-        const double force = c * v.D, gap = r - b;  // Phi = force - gap
-        const double phi = force - gap, dPhi = c * v.dD + 1.0;
-        double step = 0.0;  // in p
-        const bool far = gap > 4.0 * force || (force > 4.0 * gap && gap > 0.01 * p);
-        if (far)
-        {
-            // Far from the root, where steps in p creep along the curved D: Newton in z = log p on
-            // F(z) = log(c D) - log(d - p), which is nearly linear in z (D ~ p^alpha) away from
-            // p = d (where the Halley step below serves).
-            const double F = std::log(force / gap);
-            const double dF = p * (v.dD / v.D + 1.0 / gap);
-            step = p * std::expm1(-F / dF);
-        }
-        else
-        {
-            // Halley, -Phi Phi' / (Phi'^2 - Phi Phi''/2): cubic convergence, from the right of the
-            // root towards it. Where it would step more than twice Newton's -Phi/Phi', Newton's.
-            const double dPhi2 = dPhi * dPhi, denominator = dPhi2 - 0.5 * phi * c * v.d2D;
-            step = denominator >= 0.5 * dPhi2 ? -phi * dPhi / denominator : -phi / dPhi;
-        }
-        double next = r - step;
+        const double p = s - r;
+        const ContactStep st = contactStep(v, c, s, r, b);
+        double next = r - st.step;
         bool clamped = false;
         if (!(next >= b))
         {
@@ -275,7 +303,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         }
         const double moved = next - r;
         r = next;
-        if (!far && !clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + force))
+        if (!st.far && !clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + st.force))
         {
             // A Halley step this small: r is the root to ~1e-18 of its scale (cubic convergence). D at it from its
             // Taylor series to the same order, without another evaluation.
@@ -286,7 +314,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     }
     sol.r = r;
     sol.slope = -K / beta * v.D;
-    p = s - r;
+    const double p = s - r;
     sol.penetration = rootPower(s, sAlpha, sol.slope, law, r);
     if (sol.penetration.xAlpha == 0.0 && p > 0.0)
         if (const double pAlpha = anchoredPower(*series, anchor, p); pAlpha > 0.0)

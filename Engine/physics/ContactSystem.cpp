@@ -102,26 +102,10 @@ void ContactSystem::gaussSeidelSweep(const double* s, const double* b, Eigen::Ve
 
 int ContactSystem::solve(const double* s, const double* b, double* r, double* slope)
 {
-    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
     if (diagonal_)
-    {
-        int most = 0;
-        for (Eigen::Index j = 0; j < P; ++j)
-        {
-            auto& known = known_[size_t(j)];
-            const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(j, j), &series_[size_t(j)], &known[1]);
-            known[1] = known[0];
-            known[0] = sol.penetration;
-            r[j] = sol.r;
-            slope[j] = sol.slope;
-            most = std::max(most, sol.iterations);
-        }
-        return most;
-    }
-
-    constexpr double eps = std::numeric_limits<double>::epsilon();
-    constexpr int maxIterations = 100;
+        return solveDecoupled(s, b, r, slope);
     // The points that touch at n-1 or with the contact-free prediction at n+1.
+    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
     int touching = 0;
     Eigen::Index last = -1;
     for (Eigen::Index j = 0; j < P; ++j)
@@ -130,53 +114,91 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
             ++touching;
             last = j;
         }
-    // Bookkeeping of point j's solution: the warm start's history and the known powers.
-    auto finish = [&](Eigen::Index j, double rj, double slopej, const KnownPower& power) {
-        r[j] = rj;
-        slope[j] = slopej;
-        olderR_[j] = previousR_[j];
-        olderContact_[j] = previousContact_[j];
-        previousR_[j] = rj;
-        previousContact_[j] = slopej != 0.0;
-        auto& known = known_[size_t(j)];
-        known[1] = known[0];
-        known[0] = power;
-    };
-    if (touching == 1)
-    {
-        // One point can touch: its own scalar equation (the others' G are 0), and the others moved
-        // by its force, r_i = b_i - A_ia G_a. That is the exact solution of the coupled system if
-        // they stay off the obstacle at both ends (s_i <= 0 already; s_i - r_i <= 0 is checked),
-        // for then their G is exactly 0. Else the coupled Newton below.
-        const Eigen::Index a = last;
-        const auto sol =
-            solveScalarContact(points_[a].law, s[a], b[a], A_(a, a), &series_[size_t(a)], &known_[size_t(a)][1]);
-        bool othersOff = true;
-        for (Eigen::Index i = 0; i < P && othersOff; ++i)
-            othersOff = i == a || s[i] - (b[i] - A_(i, a) * sol.slope) <= 0.0;
-        if (othersOff)
-        {
-            for (Eigen::Index i = 0; i < P; ++i)
-                if (i != a)
-                    finish(i, b[i] - A_(i, a) * sol.slope, 0.0, KnownPower{});
-            finish(a, sol.r, sol.slope, sol.penetration);
-            return sol.iterations;
-        }
-    }
+    int iterations = 0;
+    if (touching == 1 && solveOneTouching(last, s, b, r, slope, iterations))
+        return iterations;
     if (touching == 0)
     {
-        for (Eigen::Index j = 0; j < P; ++j)
-        {
-            r[j] = b[j];
-            slope[j] = 0.0;
-            previousContact_[j] = olderContact_[j] = 0;
-            known_[size_t(j)] = {KnownPower{}, known_[size_t(j)][0]};
-        }
+        releaseAll(b, r, slope);
         return 0;
     }
+    return solveCoupled(s, b, r, slope);
+}
+
+// Phi Phi^T W diagonal (the reference grid): P independent scalar solves.
+int ContactSystem::solveDecoupled(const double* s, const double* b, double* r, double* slope)
+{
+    int most = 0;
+    for (size_t j = 0; j < points_.size(); ++j)
+    {
+        auto& known = known_[j];
+        const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(Eigen::Index(j), Eigen::Index(j)),
+                                            &series_[j], &known[1]);
+        known[1] = known[0];
+        known[0] = sol.penetration;
+        r[j] = sol.r;
+        slope[j] = sol.slope;
+        most = std::max(most, sol.iterations);
+    }
+    return most;
+}
+
+// Point j's solution and its bookkeeping: the warm start's history and the known powers.
+void ContactSystem::record(Eigen::Index j, double rj, double slopej, const KnownPower& power, double* r, double* slope)
+{
+    r[j] = rj;
+    slope[j] = slopej;
+    olderR_[j] = previousR_[j];
+    olderContact_[j] = previousContact_[j];
+    previousR_[j] = rj;
+    previousContact_[j] = slopej != 0.0;
+    auto& known = known_[size_t(j)];
+    known[1] = known[0];
+    known[0] = power;
+}
+
+// One point a can touch: its own scalar equation (the others' G are 0), and the others moved by
+// its force, r_i = b_i - A_ia G_a. That is the exact solution of the coupled system if they stay
+// off the obstacle at both ends (s_i <= 0 already; s_i - r_i <= 0 is checked), for then their G is
+// exactly 0. False (nothing written) when one of them would touch: the coupled Newton decides.
+bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope,
+                                     int& iterations)
+{
+    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
+    const auto sol =
+        solveScalarContact(points_[a].law, s[a], b[a], A_(a, a), &series_[size_t(a)], &known_[size_t(a)][1]);
+    for (Eigen::Index i = 0; i < P; ++i)
+        if (i != a && !(s[i] - (b[i] - A_(i, a) * sol.slope) <= 0.0))
+            return false;
+    for (Eigen::Index i = 0; i < P; ++i)
+        if (i != a)
+            record(i, b[i] - A_(i, a) * sol.slope, 0.0, KnownPower{}, r, slope);
+    record(a, sol.r, sol.slope, sol.penetration, r, slope);
+    iterations = sol.iterations;
+    return true;
+}
+
+// No point can touch: every r is the contact-free b, every force 0.
+void ContactSystem::releaseAll(const double* b, double* r, double* slope)
+{
+    for (size_t j = 0; j < points_.size(); ++j)
+    {
+        r[j] = b[j];
+        slope[j] = 0.0;
+        previousContact_[j] = olderContact_[j] = 0;
+        known_[j] = {KnownPower{}, known_[j][0]};
+    }
+}
+
+// The P x P Newton on phi(r) = r + A G(r) - b, warm-started from the previous steps where each
+// point was in contact, with a backtracking line search on |phi| and Gauss-Seidel sweeps of exact
+// scalar solves where the line search stalls.
+int ContactSystem::solveCoupled(const double* s, const double* b, double* r, double* slope)
+{
+    constexpr int maxIterations = 100;
+    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
     for (Eigen::Index j = 0; j < P; ++j)
         sAlpha_[size_t(j)] = powerOf(s[j], points_[j].law.exponent, &known_[size_t(j)][1]);
-    // Warm start from the previous steps where the point was in contact.
     for (Eigen::Index j = 0; j < P; ++j)
         r_[j] = olderContact_[j] ? 2.0 * previousR_[j] - olderR_[j] : previousContact_[j] ? previousR_[j] : b[j];
     // G_ and dG_ always hold the slopes at the last point residual() was called at.
@@ -185,55 +207,57 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
     while (norm > 0.0 && it < maxIterations)
     {
         ++it;
-        AG_.noalias() = A_ * G_;
-        const double scale = r_.lpNorm<Eigen::Infinity>()
-                             + Eigen::Map<const Eigen::VectorXd>(b, P).lpNorm<Eigen::Infinity>()
-                             + AG_.lpNorm<Eigen::Infinity>();
-        if (norm <= 4.0 * eps * scale)
+        if (!newtonStep(s, b, norm))
             break;
-        J_.noalias() = A_ * dG_.asDiagonal();
-        J_.diagonal().array() += 1.0;
-        lu_.compute(J_);
-        step_.noalias() = lu_.solve(phi_);  // into preallocated storage: no temporary
-        step_ = -step_;
-        double t = 1.0;
-        bool accepted = false;
-        for (int halving = 0; halving < 40; ++halving, t *= 0.5)
-        {
-            trial_ = r_ + t * step_;
-            const double trialNorm = residual(s, b, trial_, trialPhi_);
-            if (std::isfinite(trialNorm) && trialNorm <= (1.0 - 1e-4 * t) * norm)
-            {
-                accepted = true;
-                break;
-            }
-        }
-        if (accepted)
-        {
-            // The trial's residual and slopes (G_, dG_) are those of the new point.
-            const double moved = (t * step_).lpNorm<Eigen::Infinity>();
-            r_.swap(trial_);
-            phi_.swap(trialPhi_);
-            norm = phi_.lpNorm<Eigen::Infinity>();
-            if (moved <= eps * scale)
-                break;
-        }
-        else
-        {
-            // Stalled line search (kinks of [.]_+ at alpha near 1): a sweep of exact scalar solves.
-            gaussSeidelSweep(s, b, r_);
-            const double before = norm;
-            norm = residual(s, b, r_, phi_);
-            if (norm >= before)
-                break;
-        }
     }
-    for (Eigen::Index j = 0; j < P; ++j)
-    {
-        // Every exit above leaves G_ at r_.
-        finish(j, r_[j], G_[j], rootPower(s[j], sAlpha_[size_t(j)], G_[j], points_[j].law, r_[j]));
-    }
+    for (Eigen::Index j = 0; j < P; ++j)  // every exit above leaves G_ at r_
+        record(j, r_[j], G_[j], rootPower(s[j], sAlpha_[size_t(j)], G_[j], points_[j].law, r_[j]), r, slope);
     return it;
+}
+
+// One iteration of the coupled Newton from r_ (residual `norm`, updated). False when converged:
+// the residual or the step is at rounding, or a sweep no longer lowers the residual.
+bool ContactSystem::newtonStep(const double* s, const double* b, double& norm)
+{
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    const Eigen::Index P = r_.size();
+    AG_.noalias() = A_ * G_;
+    const double scale = r_.lpNorm<Eigen::Infinity>()
+                         + Eigen::Map<const Eigen::VectorXd>(b, P).lpNorm<Eigen::Infinity>()
+                         + AG_.lpNorm<Eigen::Infinity>();
+    if (norm <= 4.0 * eps * scale)
+        return false;
+    J_.noalias() = A_ * dG_.asDiagonal();
+    J_.diagonal().array() += 1.0;
+    lu_.compute(J_);
+    step_.noalias() = lu_.solve(phi_);  // into preallocated storage: no temporary
+    step_ = -step_;
+    double t = 1.0;
+    bool accepted = false;
+    for (int halving = 0; halving < 40; ++halving, t *= 0.5)
+    {
+        trial_ = r_ + t * step_;
+        const double trialNorm = residual(s, b, trial_, trialPhi_);
+        if (std::isfinite(trialNorm) && trialNorm <= (1.0 - 1e-4 * t) * norm)
+        {
+            accepted = true;
+            break;
+        }
+    }
+    if (accepted)
+    {
+        // The trial's residual and slopes (G_, dG_) are those of the new point.
+        const double moved = (t * step_).lpNorm<Eigen::Infinity>();
+        r_.swap(trial_);
+        phi_.swap(trialPhi_);
+        norm = phi_.lpNorm<Eigen::Infinity>();
+        return moved > eps * scale;
+    }
+    // Stalled line search (kinks of [.]_+ at alpha near 1): a sweep of exact scalar solves.
+    gaussSeidelSweep(s, b, r_);
+    const double before = norm;
+    norm = residual(s, b, r_, phi_);
+    return norm < before;
 }
 
 }  // namespace jawari

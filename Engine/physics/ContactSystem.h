@@ -43,6 +43,12 @@ private:
     // phi = r + A G(r) - b, with G_ and dG_ written at r; returns |phi|_inf.
     double residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi);
     void gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r);
+    int solveDecoupled(const double* s, const double* b, double* r, double* slope);
+    bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
+    void releaseAll(const double* b, double* r, double* slope);
+    int solveCoupled(const double* s, const double* b, double* r, double* slope);
+    bool newtonStep(const double* s, const double* b, double& norm);
+    void record(Eigen::Index j, double rj, double slopej, const KnownPower& power, double* r, double* slope);
 
     std::vector<ContactPoint> points_;
     std::vector<DividedSeries> series_;  // per point, for its law's exponent
