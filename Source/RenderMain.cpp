@@ -14,6 +14,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -143,24 +144,27 @@ void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySampl
                                  + "'");
 }
 
-int run(int argc, char* argv[])
+// What the command line asks for (the options as given; checked when applied).
+struct Request
+{
+    juce::String scenePath;
+    std::optional<juce::String> output, method, modes, rate, duration, outputRate, energyPath;
+    bool raw = false, quiet = false;
+};
+
+Request parseArguments(int argc, char* argv[])
 {
     juce::ArgumentList args(argc, argv);
-    if (args.containsOption("--help|-h"))
-    {
-        std::cout << usage;
-        return 0;
-    }
-    const auto output = optionValue(args, "--output|-o");
-    const auto method = optionValue(args, "--method");
-    const auto modes = optionValue(args, "--modes");
-    const auto rate = optionValue(args, "--rate");
-    const auto duration = optionValue(args, "--duration");
-    const auto outputRate = optionValue(args, "--output-rate");
-    const auto energyPath = optionValue(args, "--energy");
-    const bool raw = args.removeOptionIfFound("--raw");
-    const bool quiet = args.removeOptionIfFound("--quiet");
-
+    Request q;
+    q.output = optionValue(args, "--output|-o");
+    q.method = optionValue(args, "--method");
+    q.modes = optionValue(args, "--modes");
+    q.rate = optionValue(args, "--rate");
+    q.duration = optionValue(args, "--duration");
+    q.outputRate = optionValue(args, "--output-rate");
+    q.energyPath = optionValue(args, "--energy");
+    q.raw = args.removeOptionIfFound("--raw");
+    q.quiet = args.removeOptionIfFound("--quiet");
     juce::StringArray positional;
     for (const auto& a : args.arguments)
     {
@@ -170,114 +174,139 @@ int run(int argc, char* argv[])
     }
     if (positional.size() != 1)
         throw UsageError(positional.isEmpty() ? "no scene file given (see --help)" : "give exactly one scene file");
-    if (!output)
+    if (!q.output)
         throw UsageError("no output file: give -o OUT.wav");
+    q.scenePath = positional[0];
+    return q;
+}
 
-    auto scene = jawari::loadSceneFile(
-        juce::File::getCurrentWorkingDirectory().getChildFile(positional[0]).getFullPathName().toStdString());
-    if (method)
+// --method: the reference or a voice's contact method. The scene's modes and rate were chosen for
+// its own solver: switching between the reference and the voice drops them (the new solver's
+// defaults or automatic choice apply) unless the command line gives them too.
+void applyMethod(jawari::Scene& scene, const Request& q)
+{
+    jawari::Simulation chosen = scene.simulation;
+    if (!jawari::setMethodByName(chosen, q.method->toStdString()))
     {
-        jawari::Simulation chosen = scene.simulation;
-        if (!jawari::setMethodByName(chosen, method->toStdString()))
-        {
-            std::string names = "reference";
-            for (const auto& m : jawari::kContactMethods)
-                names += std::string(", ") + m.sceneName;
-            throw UsageError("--method: unknown method '" + method->toStdString() + "' (expected: " + names + ")");
-        }
-        // The scene's modes and rate were chosen for its own method: switching between the
-        // reference and the voice drops them (the new method's defaults or automatic choice apply)
-        // unless the command line gives them too.
-        const bool switchesSolver = chosen.reference != scene.simulation.reference;
-        if (switchesSolver && !quiet && (scene.simulation.modes || scene.simulation.rateHz) && !(modes && rate))
-            std::fprintf(stderr,
-                         "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
-                         jawari::methodName(chosen), jawari::methodName(scene.simulation));
-        if (switchesSolver)
-        {
-            scene.simulation.modes.reset();
-            scene.simulation.rateHz.reset();
-        }
-        scene.simulation.reference = chosen.reference;
-        scene.simulation.contact = chosen.contact;
+        std::string names = "reference";
+        for (const auto& m : jawari::kContactMethods)
+            names += std::string(", ") + m.sceneName;
+        throw UsageError("--method: unknown method '" + q.method->toStdString() + "' (expected: " + names + ")");
     }
-    if (modes)
+    const bool switchesSolver = chosen.reference != scene.simulation.reference;
+    if (switchesSolver && !q.quiet && (scene.simulation.modes || scene.simulation.rateHz) && !(q.modes && q.rate))
+        std::fprintf(stderr, "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
+                     jawari::methodName(chosen), jawari::methodName(scene.simulation));
+    if (switchesSolver)
     {
-        const auto m = parseWhole("--modes", *modes);
+        scene.simulation.modes.reset();
+        scene.simulation.rateHz.reset();
+    }
+    scene.simulation.reference = chosen.reference;
+    scene.simulation.contact = chosen.contact;
+}
+
+// The scene file with the command line's overrides, checked as the parser checks a scene.
+jawari::Scene sceneFor(const Request& q)
+{
+    auto scene = jawari::loadSceneFile(
+        juce::File::getCurrentWorkingDirectory().getChildFile(q.scenePath).getFullPathName().toStdString());
+    if (q.method)
+        applyMethod(scene, q);
+    if (q.modes)
+    {
+        const auto m = parseWhole("--modes", *q.modes);
         if (m < 1 || m > jawari::kMaxModes)
             throw UsageError("--modes: must be between 1 and " + std::to_string(jawari::kMaxModes));
         scene.simulation.modes = static_cast<int>(m);
     }
-    if (rate)
-        scene.simulation.rateHz = parseNumber("--rate", *rate);
-    if (duration)
-        scene.simulation.durationSeconds = parseNumber("--duration", *duration);
-    if (outputRate)
+    if (q.rate)
+        scene.simulation.rateHz = parseNumber("--rate", *q.rate);
+    if (q.duration)
+        scene.simulation.durationSeconds = parseNumber("--duration", *q.duration);
+    if (q.outputRate)
     {
-        const auto r = parseWhole("--output-rate", *outputRate);
+        const auto r = parseWhole("--output-rate", *q.outputRate);
         if (r < 8000 || r > 384000)
             throw UsageError("--output-rate: must be between 8000 and 384000 Hz");
         scene.simulation.outputRateHz = static_cast<int>(r);
     }
     jawari::validateScene(scene);
+    return scene;
+}
 
-    const auto cwd = juce::File::getCurrentWorkingDirectory();
-    const juce::File wavFile = cwd.getChildFile(*output);
-    if (!wavFile.getParentDirectory().isDirectory())
-        throw UsageError("-o: the folder '" + wavFile.getParentDirectory().getFullPathName().toStdString()
-                         + "' does not exist");
-    std::optional<juce::File> energyFile;
-    if (energyPath)
+// A file the command line names, in a folder that must exist.
+juce::File outputFile(const juce::String& path, const char* option)
+{
+    const juce::File file = juce::File::getCurrentWorkingDirectory().getChildFile(path);
+    if (!file.getParentDirectory().isDirectory())
+        throw UsageError(std::string(option) + ": the folder '"
+                         + file.getParentDirectory().getFullPathName().toStdString() + "' does not exist");
+    return file;
+}
+
+// A progress bar on stderr.
+bool showProgress(double fraction)
+{
+    const int width = 40;
+    const int filled = static_cast<int>(fraction * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(size_t(filled), '#').c_str(),
+                 std::string(size_t(width - filled), '.').c_str(), static_cast<int>(fraction * 100.0));
+    std::fflush(stderr);
+    return true;
+}
+
+void printSummary(const jawari::Scene& scene, const jawari::RenderResult& result, const juce::File& wavFile,
+                  const std::optional<juce::File>& energyFile, bool raw, double peak)
+{
+    const auto& st = result.stats;
+    std::printf("wrote %s: %zu samples at %d Hz (%s), peak %.6g %s%s\n", wavFile.getFullPathName().toRawUTF8(),
+                result.output.size(), result.outputRateHz, raw ? "32-bit float, SI units" : "24-bit, -1 dBFS peak",
+                peak, jawari::quantityUnit(scene.pickup.quantity),
+                (" " + std::string(jawari::quantityName(scene.pickup.quantity))).c_str());
+    std::printf(
+        "%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
+        "max penetration %.3g m\n",
+        jawari::methodName(scene.simulation), st.modes, st.internalRateHz, st.transformPath ? "DST-I" : "projection",
+        st.steps, st.cpuSeconds, scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9),
+        st.newtonIterationsMax, st.maxPenetrationMetres);
+    if (energyFile)
+        std::printf("energy log: %s (%zu rows)\n", energyFile->getFullPathName().toRawUTF8(), result.energy.size());
+}
+
+int run(int argc, char* argv[])
+{
+    if (juce::ArgumentList(argc, argv).containsOption("--help|-h"))
     {
-        energyFile = cwd.getChildFile(*energyPath);
-        if (!energyFile->getParentDirectory().isDirectory())
-            throw UsageError("--energy: the folder '" + energyFile->getParentDirectory().getFullPathName().toStdString()
-                             + "' does not exist");
+        std::cout << usage;
+        return 0;
     }
+    const Request q = parseArguments(argc, argv);
+    const jawari::Scene scene = sceneFor(q);
+    const juce::File wavFile = outputFile(*q.output, "-o");
+    std::optional<juce::File> energyFile;
+    if (q.energyPath)
+        energyFile = outputFile(*q.energyPath, "--energy");
 
     jawari::RenderOptions options;
     options.logEnergy = energyFile.has_value();
-    const bool bar = !quiet && isatty(STDERR_FILENO);
+    const bool bar = !q.quiet && isatty(STDERR_FILENO);
     if (bar)
-        options.progress = [](double fraction) {
-            const int width = 40;
-            const int filled = static_cast<int>(fraction * width);
-            std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(size_t(filled), '#').c_str(),
-                         std::string(size_t(width - filled), '.').c_str(), static_cast<int>(fraction * 100.0));
-            std::fflush(stderr);
-            return true;
-        };
+        options.progress = showProgress;
     const auto result = jawari::renderScene(scene, options);
     if (bar)
         std::fprintf(stderr, "\n");
-
-    if (!quiet && result.stats.initialContactEnergy > 0.5 * result.stats.initialEnergy)
+    if (!q.quiet && result.stats.initialContactEnergy > 0.5 * result.stats.initialEnergy)
         std::fprintf(stderr,
                      "warning: the initial shape starts inside an obstacle: %.3g J of the %.3g J at t = 0 is contact "
                      "energy, which launches the string (check obstacle heights against the pluck)\n",
                      result.stats.initialContactEnergy, result.stats.initialEnergy);
     double peak = 0.0;
-    writeWav(wavFile, result.output, result.outputRateHz, raw, peak);
+    writeWav(wavFile, result.output, result.outputRateHz, q.raw, peak);
     if (energyFile)
         writeEnergy(*energyFile, result.energy);
-
-    if (!quiet)
-    {
-        const auto& st = result.stats;
-        std::printf("wrote %s: %zu samples at %d Hz (%s), peak %.6g %s%s\n", wavFile.getFullPathName().toRawUTF8(),
-                    result.output.size(), result.outputRateHz, raw ? "32-bit float, SI units" : "24-bit, -1 dBFS peak",
-                    peak, jawari::quantityUnit(scene.pickup.quantity),
-                    (" " + std::string(jawari::quantityName(scene.pickup.quantity))).c_str());
-        std::printf(
-            "%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
-            "max penetration %.3g m\n",
-            jawari::methodName(scene.simulation), st.modes, st.internalRateHz,
-            st.transformPath ? "DST-I" : "projection", st.steps, st.cpuSeconds,
-            scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9), st.newtonIterationsMax,
-            st.maxPenetrationMetres);
-        if (energyFile)
-            std::printf("energy log: %s (%zu rows)\n", energyFile->getFullPathName().toRawUTF8(), result.energy.size());
-    }
+    if (!q.quiet)
+        printSummary(scene, result, wavFile, energyFile, q.raw, peak);
     return 0;
 }
 
