@@ -1,5 +1,9 @@
 #include "Parameters.h"
 
+#include "physics/ContactMethod.h"
+#include "realtime/Quality.h"
+
+#include <algorithm>
 #include <cmath>
 
 namespace jawari::plugin
@@ -7,35 +11,15 @@ namespace jawari::plugin
 namespace
 {
 using Range = juce::NormalisableRange<float>;
+using Layout = juce::AudioProcessorValueTreeState::ParameterLayout;
 
-// The ids in the order ParameterReader indexes them.
-constexpr const char* kOrder[] = {ids::stringType,
-                                  ids::obstacleShape,
-                                  ids::obstaclePosition,
-                                  ids::obstacleHeight,
-                                  ids::obstacleStiffness,
-                                  ids::obstacleExponent,
-                                  ids::obstacleWidth,
-                                  ids::bridgeCurvature,
-                                  ids::pluckPosition,
-                                  ids::pickupPosition,
-                                  ids::decayScale,
-                                  ids::airDamping,
-                                  ids::viscoelasticLoss,
-                                  ids::thermoelasticLoss,
-                                  ids::inharmonicity,
-                                  ids::release,
-                                  ids::quality,
-                                  ids::method,
-                                  ids::gain,
-                                  ids::bendRange,
-                                  ids::drone,
-                                  ids::droneTonic,
-                                  ids::droneFirst,
-                                  ids::droneTempo,
-                                  ids::humanise,
-                                  ids::droneLevel};
-static_assert(std::size(kOrder) == 26);
+// The engine's defaults: each parameter's default is the engine's, in the parameter's unit.
+constexpr InstrumentStructure kStructureDefaults{};
+constexpr InstrumentControls kControlDefaults{};
+
+// Parameters shown in other units than the engine's.
+constexpr double kMetresPerMillimetre = 1e-3;  // obstacle height and width: mm
+constexpr double kThermoelasticUnit = 1e-4;    // thermoelastic loss: 1/Q in units of 1e-4
 
 Range skewed(float lo, float hi, float centre)
 {
@@ -44,84 +28,149 @@ Range skewed(float lo, float hi, float centre)
     return r;
 }
 
-std::unique_ptr<juce::AudioParameterFloat> number(const char* id, const char* name, Range range, float value,
+std::unique_ptr<juce::AudioParameterFloat> number(const char* id, const char* name, Range range, double value,
                                                   const char* unit, int decimals = 3)
 {
     return std::make_unique<juce::AudioParameterFloat>(
-        juce::ParameterID{id, 1}, name, range, value,
+        juce::ParameterID{id, 1}, name, range, static_cast<float>(value),
         juce::AudioParameterFloatAttributes().withLabel(unit).withStringFromValueFunction([decimals](float v, int) {
             // No "-0.0000" for a value that rounds to zero.
             return juce::String(std::abs(v) < 0.5f * std::pow(10.0f, float(-decimals)) ? 0.0f : v, decimals);
         }));
 }
+
+std::unique_ptr<juce::AudioParameterChoice> choice(const char* id, const char* name, const juce::StringArray& choices,
+                                                   int defaultIndex)
+{
+    return std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{id, 1}, name, choices, defaultIndex);
+}
+
+// The choices of a parameter that indexes one of the engine's tables, named as the table names them.
+template <typename Table, typename Name>
+juce::StringArray namesOf(const Table& table, Name name)
+{
+    juce::StringArray names;
+    for (const auto& entry : table)
+        names.add(name(entry));
+    return names;
+}
+
+int contactMethodIndex(ContactMethod method)
+{
+    for (size_t i = 0; i < std::size(kContactMethods); ++i)
+        if (kContactMethods[i].method == method)
+            return static_cast<int>(i);
+    return 0;
+}
+
+// The string, and the obstacle it buzzes against.
+void addStringAndObstacle(Layout& layout)
+{
+    const auto& s = kStructureDefaults;
+    const auto& c = kControlDefaults;
+    layout.add(choice(ids::stringType, "String", namesOf(kStringTypes, [](const StringType& t) { return t.name; }),
+                      s.stringType));
+    layout.add(choice(ids::obstacleShape, "Obstacle shape", juce::StringArray{"point", "parabolic bridge", "frets"},
+                      static_cast<int>(s.shape)));
+    // A tanpura's bridge near the end of the string by default (the engine's structure defaults to the centre).
+    layout.add(number(ids::obstaclePosition, "Obstacle position", Range(0.005f, 0.995f), 0.006f, "x L", 4));
+    layout.add(number(ids::obstacleHeight, "Obstacle height", Range(-5.0f, 1.0f, 0.0001f),
+                      c.obstacleHeight / kMetresPerMillimetre, "mm", 4));
+    layout.add(number(ids::obstacleStiffness, "Obstacle stiffness", Range(6.0f, 16.0f, 0.01f), std::log10(c.stiffness),
+                      "log10 K", 2));
+    layout.add(number(ids::obstacleExponent, "Obstacle exponent", Range(1.0f, 4.0f, 0.01f), c.exponent, "alpha", 2));
+    layout.add(number(ids::obstacleWidth, "Obstacle width", skewed(0.1f, 50.0f, 3.0f),
+                      s.obstacleWidth / kMetresPerMillimetre, "mm", 2));
+    layout.add(number(ids::bridgeCurvature, "Bridge curvature", skewed(0.0f, 100.0f, 5.0f), s.curvature, "1/m", 2));
+}
+
+// Where the string is plucked and heard, and how it loses energy.
+void addPointsAndDamping(Layout& layout)
+{
+    const auto& s = kStructureDefaults;
+    const auto& c = kControlDefaults;
+    layout.add(number(ids::pluckPosition, "Pluck position", Range(0.02f, 0.98f), s.pluckPosition, "x L", 4));
+    // The paper's pickup, 0.992 m on its 1.002 m string.
+    layout.add(number(ids::pickupPosition, "Pickup position", Range(0.01f, 0.995f), 0.992f / 1.002f, "x L", 4));
+    layout.add(number(ids::decayScale, "Decay scale", skewed(0.1f, 10.0f, 1.0f), c.decayScale, "x", 2));
+    layout.add(number(ids::airDamping, "Air damping", skewed(0.0f, 10.0f, 1.0f), c.airScale, "x", 2));
+    layout.add(
+        number(ids::viscoelasticLoss, "Viscoelastic loss", Range(0.0f, 0.05f, 0.0001f), c.deltaVe, "delta_ve", 4));
+    layout.add(number(ids::thermoelasticLoss, "Thermoelastic loss", Range(0.0f, 10.0f, 0.01f),
+                      c.qTeInv / kThermoelasticUnit, "1e-4/Q", 2));
+    layout.add(number(ids::inharmonicity, "Inharmonicity", skewed(0.0f, 1e-3f, 5e-5f), s.inharmonicity, "B", 7));
+    layout.add(number(ids::release, "Release", skewed(0.05f, 5.0f, 0.5f), s.releaseSeconds, "s", 2));
+}
+
+// How much model runs and how it finds the contact; what comes out.
+void addQualityAndOutput(Layout& layout)
+{
+    const auto& s = kStructureDefaults;
+    const auto& c = kControlDefaults;
+    layout.add(choice(ids::quality, "Quality",
+                      namesOf(kQualitySettings, [](const QualitySetting& q) { return q.name; }), s.quality));
+    layout.add(choice(ids::method, "Contact method",
+                      namesOf(kContactMethods, [](const ContactMethodName& m) { return m.playerName; }),
+                      contactMethodIndex(s.method)));
+    layout.add(number(ids::gain, "Output gain", Range(-48.0f, 12.0f, 0.1f), c.gainDb, "dB", 1));
+    layout.add(
+        number(ids::bendRange, "Pitch bend range", Range(0.0f, 12.0f, 1.0f), c.bendRangeSemitones, "semitones", 0));
+}
+
+// The tanpura drone.
+void addDrone(Layout& layout)
+{
+    const auto& c = kControlDefaults;
+    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::drone, 1}, "Drone", c.drone));
+    layout.add(std::make_unique<juce::AudioParameterInt>(juce::ParameterID{ids::droneTonic, 1}, "Drone tonic (Sa)", 36,
+                                                         72, c.droneTonic));
+    layout.add(choice(ids::droneFirst, "First string", juce::StringArray{"Pa", "Ma", "Ni", "Sa"}, c.droneFirst));
+    layout.add(number(ids::droneTempo, "Drone tempo", Range(20.0f, 200.0f, 0.1f), c.droneTempo, "plucks/min", 1));
+    layout.add(number(ids::humanise, "Humanise", Range(0.0f, 1.0f, 0.001f), c.humanise, "", 2));
+    layout.add(number(ids::droneStrength, "Drone strength", Range(0.0f, 1.0f, 0.001f), c.droneStrength, "", 2));
+}
+
+int rounded(float value)
+{
+    return static_cast<int>(std::lround(value));
+}
 }  // namespace
 
 juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
 {
-    juce::AudioProcessorValueTreeState::ParameterLayout layout;
-    juce::StringArray strings;
-    for (const auto& s : kStringTypes)
-        strings.add(s.name);
-    layout.add(
-        std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::stringType, 1}, "String", strings, 0));
-    layout.add(std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::obstacleShape, 1}, "Obstacle shape",
-                                                            juce::StringArray{"point", "parabolic bridge", "frets"},
-                                                            0));
-    layout.add(number(ids::obstaclePosition, "Obstacle position", Range(0.005f, 0.995f), 0.006f, "x L", 4));
-    layout.add(number(ids::obstacleHeight, "Obstacle height", Range(-5.0f, 1.0f, 0.0001f), 0.0f, "mm", 4));
-    layout.add(number(ids::obstacleStiffness, "Obstacle stiffness", Range(6.0f, 16.0f, 0.01f), 13.0f, "log10 K", 2));
-    layout.add(number(ids::obstacleExponent, "Obstacle exponent", Range(1.0f, 4.0f, 0.01f), 1.3f, "alpha", 2));
-    layout.add(number(ids::obstacleWidth, "Obstacle width", skewed(0.1f, 50.0f, 3.0f), 1.0f, "mm", 2));
-    layout.add(number(ids::bridgeCurvature, "Bridge curvature", skewed(0.0f, 100.0f, 5.0f), 2.0f, "1/m", 2));
-    layout.add(number(ids::pluckPosition, "Pluck position", Range(0.02f, 0.98f), 0.5f, "x L", 4));
-    layout.add(number(ids::pickupPosition, "Pickup position", Range(0.01f, 0.995f), 0.992f / 1.002f, "x L", 4));
-    layout.add(number(ids::decayScale, "Decay scale", skewed(0.1f, 10.0f, 1.0f), 1.0f, "x", 2));
-    layout.add(number(ids::airDamping, "Air damping", skewed(0.0f, 10.0f, 1.0f), 1.0f, "x", 2));
-    layout.add(number(ids::viscoelasticLoss, "Viscoelastic loss", Range(0.0f, 0.05f, 0.0001f), 0.006f, "delta_ve", 4));
-    layout.add(number(ids::thermoelasticLoss, "Thermoelastic loss", Range(0.0f, 10.0f, 0.01f), 1.38f, "1e-4/Q", 2));
-    layout.add(number(ids::inharmonicity, "Inharmonicity", skewed(0.0f, 1e-3f, 5e-5f), 1.78e-5f, "B", 7));
-    layout.add(number(ids::release, "Release", skewed(0.05f, 5.0f, 0.5f), 0.4f, "s", 2));
-    layout.add(std::make_unique<juce::AudioParameterChoice>(
-        juce::ParameterID{ids::quality, 1}, "Quality", juce::StringArray{"draft", "standard", "high", "paper"}, 0));
-    layout.add(std::make_unique<juce::AudioParameterChoice>(
-        juce::ParameterID{ids::method, 1}, "Contact method",
-        juce::StringArray{"energy-conserving", "quadratised", "penalty"}, 0));
-    layout.add(number(ids::gain, "Output gain", Range(-48.0f, 12.0f, 0.1f), 0.0f, "dB", 1));
-    layout.add(number(ids::bendRange, "Pitch bend range", Range(0.0f, 12.0f, 1.0f), 2.0f, "semitones", 0));
-    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::drone, 1}, "Drone", false));
-    layout.add(std::make_unique<juce::AudioParameterInt>(juce::ParameterID{ids::droneTonic, 1}, "Drone tonic (Sa)", 36,
-                                                         72, 49));
-    layout.add(std::make_unique<juce::AudioParameterChoice>(juce::ParameterID{ids::droneFirst, 1}, "First string",
-                                                            juce::StringArray{"Pa", "Ma", "Ni", "Sa"}, 0));
-    layout.add(number(ids::droneTempo, "Drone tempo", Range(20.0f, 200.0f, 0.1f), 60.0f, "plucks/min", 1));
-    layout.add(number(ids::humanise, "Humanise", Range(0.0f, 1.0f, 0.001f), 0.2f, "", 2));
-    layout.add(number(ids::droneLevel, "Drone strength", Range(0.0f, 1.0f, 0.001f), 0.7f, "", 2));
+    // In the order of kParameterIds (tested).
+    Layout layout;
+    addStringAndObstacle(layout);
+    addPointsAndDamping(layout);
+    addQualityAndOutput(layout);
+    addDrone(layout);
     return layout;
 }
 
 ParameterReader::ParameterReader(juce::AudioProcessorValueTreeState& state)
 {
-    for (size_t i = 0; i < std::size(kOrder); ++i)
+    for (size_t i = 0; i < kParameterCount; ++i)
     {
-        values_[i] = state.getRawParameterValue(kOrder[i]);
+        values_[i] = state.getRawParameterValue(kParameterIds[i]);
         jassert(values_[i] != nullptr);
     }
 }
 
 InstrumentStructure ParameterReader::structure(double hostRateHz) const
 {
+    constexpr int lastMethod = static_cast<int>(std::size(kContactMethods)) - 1;
     InstrumentStructure s;
-    s.stringType = static_cast<int>(std::lround(get(0)));
-    s.shape = static_cast<ObstacleShape>(std::clamp(static_cast<int>(std::lround(get(1))), 0, 2));
-    s.obstaclePosition = get(2);
-    s.obstacleWidth = get(6) * 1e-3;
-    s.curvature = get(7);
-    s.pluckPosition = get(8);
-    s.pickupPosition = get(9);
-    s.inharmonicity = get(14);
-    s.releaseSeconds = get(15);
-    s.quality = static_cast<int>(std::lround(get(16)));
-    s.method = static_cast<ContactMethod>(std::clamp(static_cast<int>(std::lround(get(17))), 0, 2));
+    s.stringType = rounded(get(ids::stringType));
+    s.shape = static_cast<ObstacleShape>(std::clamp(rounded(get(ids::obstacleShape)), 0, 2));
+    s.obstaclePosition = get(ids::obstaclePosition);
+    s.obstacleWidth = get(ids::obstacleWidth) * kMetresPerMillimetre;
+    s.curvature = get(ids::bridgeCurvature);
+    s.pluckPosition = get(ids::pluckPosition);
+    s.pickupPosition = get(ids::pickupPosition);
+    s.inharmonicity = get(ids::inharmonicity);
+    s.releaseSeconds = get(ids::release);
+    s.quality = rounded(get(ids::quality));
+    s.method = kContactMethods[size_t(std::clamp(rounded(get(ids::method)), 0, lastMethod))].method;
     s.hostRateHz = hostRateHz;
     return s;
 }
@@ -129,23 +178,23 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
 InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>, kDampingCurvePoints>& curve) const
 {
     InstrumentControls c;
-    c.obstacleHeight = get(3) * 1e-3;
-    c.stiffness = std::pow(10.0, double(get(4)));
-    c.exponent = get(5);
-    c.decayScale = get(10);
-    c.airScale = get(11);
-    c.deltaVe = get(12);
-    c.qTeInv = get(13) * 1e-4;
+    c.obstacleHeight = get(ids::obstacleHeight) * kMetresPerMillimetre;
+    c.stiffness = std::pow(10.0, double(get(ids::obstacleStiffness)));
+    c.exponent = get(ids::obstacleExponent);
+    c.decayScale = get(ids::decayScale);
+    c.airScale = get(ids::airDamping);
+    c.deltaVe = get(ids::viscoelasticLoss);
+    c.qTeInv = get(ids::thermoelasticLoss) * kThermoelasticUnit;
     for (int i = 0; i < kDampingCurvePoints; ++i)
         c.dampingCurve[size_t(i)] = curve[size_t(i)].load(std::memory_order_relaxed);
-    c.gainDb = get(18);
-    c.bendRangeSemitones = get(19);
-    c.drone = get(20) > 0.5f;
-    c.droneTonic = static_cast<int>(std::lround(get(21)));
-    c.droneFirst = static_cast<int>(std::lround(get(22)));
-    c.droneTempo = get(23);
-    c.humanise = get(24);
-    c.droneStrength = get(25);
+    c.gainDb = get(ids::gain);
+    c.bendRangeSemitones = get(ids::bendRange);
+    c.drone = get(ids::drone) > 0.5f;
+    c.droneTonic = rounded(get(ids::droneTonic));
+    c.droneFirst = rounded(get(ids::droneFirst));
+    c.droneTempo = get(ids::droneTempo);
+    c.humanise = get(ids::humanise);
+    c.droneStrength = get(ids::droneStrength);
     return c;
 }
 

@@ -9,6 +9,9 @@
 
 #include <array>
 #include <atomic>
+#include <cstddef>
+#include <iterator>
+#include <string_view>
 
 namespace jawari::plugin
 {
@@ -40,12 +43,71 @@ inline constexpr const char* droneTonic = "droneTonic";
 inline constexpr const char* droneFirst = "droneFirst";
 inline constexpr const char* droneTempo = "droneTempo";
 inline constexpr const char* humanise = "humanise";
-inline constexpr const char* droneLevel = "droneLevel";
+inline constexpr const char* droneStrength = "droneStrength";
 }  // namespace ids
+
+// Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
+inline constexpr const char* kParameterIds[] = {ids::stringType,
+                                                ids::obstacleShape,
+                                                ids::obstaclePosition,
+                                                ids::obstacleHeight,
+                                                ids::obstacleStiffness,
+                                                ids::obstacleExponent,
+                                                ids::obstacleWidth,
+                                                ids::bridgeCurvature,
+                                                ids::pluckPosition,
+                                                ids::pickupPosition,
+                                                ids::decayScale,
+                                                ids::airDamping,
+                                                ids::viscoelasticLoss,
+                                                ids::thermoelasticLoss,
+                                                ids::inharmonicity,
+                                                ids::release,
+                                                ids::quality,
+                                                ids::method,
+                                                ids::gain,
+                                                ids::bendRange,
+                                                ids::drone,
+                                                ids::droneTonic,
+                                                ids::droneFirst,
+                                                ids::droneTempo,
+                                                ids::humanise,
+                                                ids::droneStrength};
+inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
+
+// Ids that saved states and user presets may still use for a parameter: read into `id`.
+struct ParameterAlias
+{
+    const char* oldId;
+    const char* id;
+};
+inline constexpr ParameterAlias kParameterAliases[] = {{"droneLevel", ids::droneStrength}};
+
+// A parameter's position in kParameterIds, found while compiling: an id not in the list does not
+// compile, and reading a parameter costs no string comparison at run time.
+class ParameterIndex
+{
+public:
+    consteval ParameterIndex(const char* id)
+        : index_(find(id))
+    {}
+    constexpr std::size_t value() const { return index_; }
+
+private:
+    static consteval std::size_t find(std::string_view id)
+    {
+        for (std::size_t i = 0; i < kParameterCount; ++i)
+            if (id == kParameterIds[i])
+                return i;
+        throw "not a parameter id (kParameterIds)";
+    }
+    std::size_t index_;
+};
 
 juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout();
 
-// Raw (denormalised) parameter values, read lock-free from the APVTS atomics.
+// Raw (denormalised) parameter values, read lock-free from the APVTS atomics. The atomics are
+// found by id once, at construction (CT); reading them does no lookup.
 class ParameterReader
 {
 public:
@@ -57,8 +119,8 @@ public:
     InstrumentControls controls(const std::array<std::atomic<float>, kDampingCurvePoints>& curve) const;
 
 private:
-    float get(int index) const { return values_[size_t(index)]->load(std::memory_order_relaxed); }
-    std::array<std::atomic<float>*, 26> values_{};
+    float get(ParameterIndex id) const { return values_[id.value()]->load(std::memory_order_relaxed); }
+    std::array<std::atomic<float>*, kParameterCount> values_{};
 };
 
 }  // namespace jawari::plugin

@@ -10,6 +10,18 @@ namespace
 {
 const juce::Colour kBackground{0xff15171c}, kPanel{0xff1f232b}, kString{0xfff2c14e}, kObstacle{0xff6fb3d2},
     kGrid{0xff343a46}, kText{0xffd8dde6};
+
+// The damping curve editor's vertical scale, in octaves of multiplier: x1 in the middle, the
+// engine's limits at the edges (reciprocal, so the scale is symmetric).
+static_assert(kDampingCurveMin * kDampingCurveMax == 1.0);
+const float kCurveOctaves = std::log2(static_cast<float>(kDampingCurveMax));
+
+// The curve's range as the editor labels it: "x1/8 .. x8".
+juce::String dampingCurveRangeText()
+{
+    return "x1/" + juce::String(juce::roundToInt(1.0 / kDampingCurveMin)) + " .. x"
+           + juce::String(juce::roundToInt(kDampingCurveMax));
+}
 }  // namespace
 
 void StringView::paint(juce::Graphics& g)
@@ -121,8 +133,8 @@ juce::Point<float> DampingCurveEditor::pointPosition(int i) const
 {
     const auto area = getLocalBounds().toFloat().reduced(14.0f);
     const float x = area.getX() + area.getWidth() * float(i) / float(kDampingCurvePoints - 1);
-    const float octaves = std::log2(processor_.dampingCurvePoint(i));  // -3 .. 3
-    return {x, area.getCentreY() - octaves / 3.0f * 0.5f * area.getHeight()};
+    const float octaves = std::log2(processor_.dampingCurvePoint(i));  // -kCurveOctaves .. kCurveOctaves
+    return {x, area.getCentreY() - octaves / kCurveOctaves * 0.5f * area.getHeight()};
 }
 
 int DampingCurveEditor::nearest(juce::Point<float> p) const
@@ -156,8 +168,8 @@ void DampingCurveEditor::paint(juce::Graphics& g)
         g.fillEllipse(juce::Rectangle<float>(9.0f, 9.0f).withCentre(pointPosition(i)));
     g.setColour(kText);
     g.setFont(13.0f);
-    g.drawText("per-mode damping x1/8 .. x8, 20 Hz - 20 kHz (drag; double-click resets)", area.toNearestInt(),
-               juce::Justification::topLeft);
+    g.drawText("per-mode damping " + dampingCurveRangeText() + ", 20 Hz - 20 kHz (drag; double-click resets)",
+               area.toNearestInt(), juce::Justification::topLeft);
 }
 
 void DampingCurveEditor::mouseDown(const juce::MouseEvent& e)
@@ -171,8 +183,8 @@ void DampingCurveEditor::mouseDrag(const juce::MouseEvent& e)
     if (dragging_ < 0)
         return;
     const auto area = getLocalBounds().toFloat().reduced(14.0f);
-    const float octaves =
-        juce::jlimit(-3.0f, 3.0f, (area.getCentreY() - e.position.y) / (0.5f * area.getHeight()) * 3.0f);
+    const float octaves = juce::jlimit(-kCurveOctaves, kCurveOctaves,
+                                       (area.getCentreY() - e.position.y) / (0.5f * area.getHeight()) * kCurveOctaves);
     processor_.setDampingCurvePoint(dragging_, std::exp2(octaves));
     repaint();
 }
@@ -250,7 +262,7 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
                                                           {ids::droneTonic, "Sa (MIDI)"},
                                                           {ids::droneTempo, "Tempo"},
                                                           {ids::humanise, "Humanise"},
-                                                          {ids::droneLevel, "Drone level"}})
+                                                          {ids::droneStrength, "Drone strength"}})
         addKnob(id, title);
 
     constrainer_.setMinimumSize(860, 600);

@@ -3,6 +3,7 @@
 #include "PluginEditor.h"
 #include "Presets.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -239,7 +240,8 @@ void JawariAudioProcessor::setDampingCurvePoint(int i, float multiplier)
 {
     if (i < 0 || i >= kDampingCurvePoints)
         return;
-    curve_[size_t(i)].store(std::isfinite(multiplier) ? std::clamp(multiplier, 0.125f, 8.0f) : 1.0f);
+    const auto lowest = static_cast<float>(kDampingCurveMin), highest = static_cast<float>(kDampingCurveMax);
+    curve_[size_t(i)].store(std::isfinite(multiplier) ? std::clamp(multiplier, lowest, highest) : 1.0f);
 }
 
 juce::ValueTree JawariAudioProcessor::state() const
@@ -279,12 +281,29 @@ double numberIn(const juce::var& v)
     const double value = std::strtod(text.c_str(), &end);
     return end == text.c_str() + text.size() ? value : std::nan("");
 }
+
+// A parameter's entry in a state's "Parameters": under its id, else under an id it had before
+// (kParameterAliases); invalid when there is neither.
+juce::ValueTree savedParameter(const juce::ValueTree& params, const juce::String& id)
+{
+    if (const auto saved = params.getChildWithProperty("id", id); saved.isValid())
+        return saved;
+    for (const auto& alias : kParameterAliases)
+    {
+        if (id != alias.id)
+            continue;
+        if (const auto older = params.getChildWithProperty("id", alias.oldId); older.isValid())
+            return older;
+    }
+    return {};
+}
 }  // namespace
 
 void JawariAudioProcessor::setState(const juce::ValueTree& tree)
 {
     // Version 1 (0.1) had no damping curve; version 2 adds it. Anything else a state lacks, or
-    // holds out of range or not as a number, takes the parameter's default.
+    // holds out of range or not as a number, takes the parameter's default. A parameter saved under
+    // an id it had before is read too.
     const auto params = tree.getChildWithName("Parameters");
     for (auto* p : getParameters())
     {
@@ -292,7 +311,7 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
         if (ranged == nullptr)
             continue;
         float normalised = ranged->getDefaultValue();
-        const auto param = params.getChildWithProperty("id", ranged->getParameterID());
+        const auto param = savedParameter(params, ranged->getParameterID());
         if (param.isValid())
         {
             const double value = numberIn(param.getProperty("value"));
@@ -306,7 +325,7 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
     for (int i = 0; i < kDampingCurvePoints; ++i)
     {
         const double value = numberIn(curve.getProperty("p" + juce::String(i), 1.0));
-        const bool valid = std::isfinite(value) && value >= 0.125 && value <= 8.0;
+        const bool valid = std::isfinite(value) && value >= kDampingCurveMin && value <= kDampingCurveMax;
         setDampingCurvePoint(i, valid ? static_cast<float>(value) : 1.0f);
     }
     const double program = numberIn(tree.getProperty("program", 0));

@@ -18,10 +18,12 @@
 #include <juce_events/juce_events.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <random>
 #include <thread>
+#include <utility>
 #include <vector>
 
 using namespace jawari;
@@ -153,6 +155,176 @@ TEST_CASE("The state round-trips every parameter and the damping curve", "[plugi
     CHECK(checked == 26);
     for (int i = 0; i < kDampingCurvePoints; ++i)
         CHECK(b.dampingCurvePoint(i) == Approx(std::clamp(0.25f + 0.5f * float(i), 0.125f, 8.0f)));
+}
+
+TEST_CASE("A state or preset saved with the old id droneLevel restores the drone strength", "[plugin]")
+{
+    // The state of an older version: drone strength saved as "droneLevel".
+    auto stateWithDroneLevel = [](double value) {
+        juce::ValueTree tree("JawariState");
+        tree.setProperty("version", 2, nullptr);
+        juce::ValueTree params("Parameters");
+        juce::ValueTree param("Param");
+        param.setProperty("id", "droneLevel", nullptr);
+        param.setProperty("value", value, nullptr);
+        params.appendChild(param, nullptr);
+        tree.appendChild(params, nullptr);
+        return tree;
+    };
+    JawariAudioProcessor p;
+    REQUIRE(parameterValue(p, ids::droneStrength) == Approx(0.7f));
+    juce::MemoryBlock blob;
+    juce::AudioProcessor::copyXmlToBinary(*stateWithDroneLevel(0.35).createXml(), blob);
+    p.setStateInformation(blob.getData(), int(blob.getSize()));
+    CHECK(parameterValue(p, ids::droneStrength) == Approx(0.35f));
+
+    // A user preset file of that version.
+    juce::TemporaryFile preset(".jawaripreset");
+    REQUIRE(stateWithDroneLevel(0.9).createXml()->writeTo(preset.getFile()));
+    REQUIRE(p.loadUserPreset(preset.getFile()).wasOk());
+    CHECK(parameterValue(p, ids::droneStrength) == Approx(0.9f));
+
+    // Both ids in one state: the current one wins.
+    auto both = stateWithDroneLevel(0.2);
+    juce::ValueTree current("Param");
+    current.setProperty("id", ids::droneStrength, nullptr);
+    current.setProperty("value", 0.6, nullptr);
+    both.getChildWithName("Parameters").appendChild(current, nullptr);
+    p.setState(both);
+    CHECK(parameterValue(p, ids::droneStrength) == Approx(0.6f));
+}
+
+TEST_CASE("The parameters: their order, the engine's choice names and unchanged defaults", "[plugin]")
+{
+    JawariAudioProcessor p;
+    const auto& params = p.getParameters();
+    REQUIRE(size_t(params.size()) == kParameterCount);
+    for (size_t i = 0; i < kParameterCount; ++i)
+    {
+        auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(params[int(i)]);
+        REQUIRE(ranged != nullptr);
+        CHECK(ranged->getParameterID() == kParameterIds[i]);
+    }
+    auto choicesOf = [&](const char* id) {
+        auto* choice = dynamic_cast<juce::AudioParameterChoice*>(p.parameters().getParameter(id));
+        REQUIRE(choice != nullptr);
+        return choice->choices;
+    };
+    CHECK(choicesOf(ids::quality) == juce::StringArray{"draft", "standard", "high", "paper"});
+    CHECK(choicesOf(ids::method) == juce::StringArray{"energy-conserving", "quadratised", "penalty"});
+
+    // The defaults as the player sees them: the engine's InstrumentControls and InstrumentStructure
+    // defaults, some in other units, and the plugin's own bridge and pickup positions.
+    const std::pair<const char*, float> defaults[] = {{ids::stringType, 0.0f},
+                                                      {ids::obstacleShape, 0.0f},
+                                                      {ids::obstaclePosition, 0.006f},
+                                                      {ids::obstacleHeight, 0.0f},
+                                                      {ids::obstacleStiffness, 13.0f},
+                                                      {ids::obstacleExponent, 1.3f},
+                                                      {ids::obstacleWidth, 1.0f},
+                                                      {ids::bridgeCurvature, 2.0f},
+                                                      {ids::pluckPosition, 0.5f},
+                                                      {ids::pickupPosition, 0.992f / 1.002f},
+                                                      {ids::decayScale, 1.0f},
+                                                      {ids::airDamping, 1.0f},
+                                                      {ids::viscoelasticLoss, 0.006f},
+                                                      {ids::thermoelasticLoss, 1.38f},
+                                                      {ids::inharmonicity, 1.78e-5f},
+                                                      {ids::release, 0.4f},
+                                                      {ids::quality, 0.0f},
+                                                      {ids::method, 0.0f},
+                                                      {ids::gain, 0.0f},
+                                                      {ids::bendRange, 2.0f},
+                                                      {ids::drone, 0.0f},
+                                                      {ids::droneTonic, 49.0f},
+                                                      {ids::droneFirst, 0.0f},
+                                                      {ids::droneTempo, 60.0f},
+                                                      {ids::humanise, 0.2f},
+                                                      {ids::droneStrength, 0.7f}};
+    CHECK(std::size(defaults) == kParameterCount);
+    for (const auto& [id, value] : defaults)
+    {
+        INFO(id);
+        CHECK(parameterValue(p, id) == Approx(value).epsilon(1e-6).margin(1e-6));
+    }
+    auto defaultText = [&](const char* id) {
+        auto* param = p.parameters().getParameter(id);
+        return param->getText(param->getDefaultValue(), 100);
+    };
+    CHECK(defaultText(ids::obstacleStiffness) == "13.00");
+    CHECK(defaultText(ids::viscoelasticLoss) == "0.0060");
+    CHECK(defaultText(ids::thermoelasticLoss) == "1.38");
+    CHECK(defaultText(ids::obstacleWidth) == "1.00");
+}
+
+TEST_CASE("ParameterReader reads each parameter into its own engine field", "[plugin]")
+{
+    JawariAudioProcessor p;
+    const std::pair<const char*, float> values[] = {{ids::stringType, 2.0f},
+                                                    {ids::obstacleShape, 1.0f},
+                                                    {ids::obstaclePosition, 0.3f},
+                                                    {ids::obstacleHeight, -0.25f},
+                                                    {ids::obstacleStiffness, 12.0f},
+                                                    {ids::obstacleExponent, 1.5f},
+                                                    {ids::obstacleWidth, 2.5f},
+                                                    {ids::bridgeCurvature, 8.0f},
+                                                    {ids::pluckPosition, 0.2f},
+                                                    {ids::pickupPosition, 0.9f},
+                                                    {ids::decayScale, 2.0f},
+                                                    {ids::airDamping, 3.0f},
+                                                    {ids::viscoelasticLoss, 0.01f},
+                                                    {ids::thermoelasticLoss, 2.5f},
+                                                    {ids::inharmonicity, 1e-4f},
+                                                    {ids::release, 1.5f},
+                                                    {ids::quality, 2.0f},
+                                                    {ids::method, 1.0f},
+                                                    {ids::gain, -6.0f},
+                                                    {ids::bendRange, 7.0f},
+                                                    {ids::drone, 1.0f},
+                                                    {ids::droneTonic, 60.0f},
+                                                    {ids::droneFirst, 2.0f},
+                                                    {ids::droneTempo, 90.0f},
+                                                    {ids::humanise, 0.5f},
+                                                    {ids::droneStrength, 0.35f}};
+    REQUIRE(std::size(values) == kParameterCount);
+    for (const auto& [id, value] : values)
+        setParameter(p, id, value);
+    std::array<std::atomic<float>, kDampingCurvePoints> curve;
+    for (auto& point : curve)
+        point.store(2.0f);
+
+    const ParameterReader reader(p.parameters());
+    const auto s = reader.structure(44100.0);
+    CHECK(s.stringType == 2);
+    CHECK(s.shape == ObstacleShape::parabola);
+    CHECK(s.obstaclePosition == Approx(0.3).epsilon(1e-4));
+    CHECK(s.obstacleWidth == Approx(2.5e-3).epsilon(1e-4));
+    CHECK(s.curvature == Approx(8.0).epsilon(1e-4));
+    CHECK(s.pluckPosition == Approx(0.2).epsilon(1e-4));
+    CHECK(s.pickupPosition == Approx(0.9).epsilon(1e-4));
+    CHECK(s.inharmonicity == Approx(1e-4).epsilon(1e-4));
+    CHECK(s.releaseSeconds == Approx(1.5).epsilon(1e-4));
+    CHECK(s.quality == 2);
+    CHECK(s.method == ContactMethod::quadratised);
+    CHECK(s.hostRateHz == 44100.0);
+
+    const auto c = reader.controls(curve);
+    CHECK(c.obstacleHeight == Approx(-0.25e-3).epsilon(1e-4));
+    CHECK(c.stiffness == Approx(1e12).epsilon(1e-4));
+    CHECK(c.exponent == Approx(1.5).epsilon(1e-4));
+    CHECK(c.decayScale == Approx(2.0).epsilon(1e-4));
+    CHECK(c.airScale == Approx(3.0).epsilon(1e-4));
+    CHECK(c.deltaVe == Approx(0.01).epsilon(1e-4));
+    CHECK(c.qTeInv == Approx(2.5e-4).epsilon(1e-4));
+    CHECK(c.dampingCurve[0] == 2.0);
+    CHECK(c.gainDb == Approx(-6.0).epsilon(1e-4));
+    CHECK(c.bendRangeSemitones == Approx(7.0));
+    CHECK(c.drone);
+    CHECK(c.droneTonic == 60);
+    CHECK(c.droneFirst == 2);
+    CHECK(c.droneTempo == Approx(90.0).epsilon(1e-4));
+    CHECK(c.humanise == Approx(0.5).epsilon(1e-4));
+    CHECK(c.droneStrength == Approx(0.35).epsilon(1e-4));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
@@ -362,7 +534,7 @@ TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite a
     // hammer away; the structural ones change too, so the builder keeps swapping packs.
     const char* rt[] = {ids::obstacleHeight, ids::obstacleStiffness, ids::obstacleExponent,  ids::decayScale,
                         ids::airDamping,     ids::viscoelasticLoss,  ids::thermoelasticLoss, ids::gain,
-                        ids::bendRange,      ids::humanise,          ids::droneLevel,        ids::droneTonic};
+                        ids::bendRange,      ids::humanise,          ids::droneStrength,     ids::droneTonic};
     juce::AudioBuffer<float> buffer(2, 32);
     double peak = 0.0;
     bool finite = true;
