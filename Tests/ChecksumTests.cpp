@@ -112,6 +112,7 @@ uint64_t hashInstrument(ObstacleShape shape)
     controls.obstacleHeight = shape == ObstacleShape::frets ? -0.25e-3 : 0.0;
     controls.drone = true;
     controls.droneTempo = 200;
+    controls.droneTuning = DroneTuning::equal;  // as the drone was tuned when the hashes were stored
     instrument.setControls(controls);
 
     Fnv1a h;

@@ -168,6 +168,7 @@ TEST_CASE("The tanpura drone plucks Pa Sa Sa Sa in cycle on its own bridges", "[
     Instrument instrument;
     InstrumentControls c;
     c.drone = true;
+    c.droneTuning = DroneTuning::equal;  // the equal-tempered notes below; the just ones in TuningTests
     c.droneTempo = 120.0;  // a pluck every 0.5 s, 1 s after the low Sa: a 2.5 s cycle
     c.humanise = 0.0;
     c.droneTonic = 49;

@@ -228,13 +228,23 @@ void Instrument::applyContact()
         v->setContactLaw(law, current_.obstacleHeight);
 }
 
-void Instrument::start(int slot, int note, double velocity)
+// A MIDI key: the pitch its tuning gives it (an unmapped key does not sound).
+void Instrument::startKey(int slot, int note, double velocity)
+{
+    const double pitch =
+        note >= 0 && note < kMidiNotes ? current_.keyPitches[size_t(note)] : std::numeric_limits<double>::quiet_NaN();
+    if (std::isfinite(pitch))
+        start(slot, note, pitch, velocity);
+}
+
+void Instrument::start(int slot, int note, double pitch, double velocity)
 {
     auto& s = slots_[size_t(slot)];
     auto& voice = *pack_->voices[size_t(slot)];
     const bool fromRest = !s.sounding || s.note != note;
     s.note = note;
-    s.ratio = slot < kMidiVoices ? noteRatio(note + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(note);
+    s.pitch = pitch;
+    s.ratio = slot < kMidiVoices ? noteRatio(pitch + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(pitch);
     if (fromRest)
     {
         voice.silence();
@@ -263,6 +273,8 @@ void Instrument::noteOn(int note, double velocity)
         return;
     }
     velocity = std::min(velocity, 1.0);
+    if (note < 0 || note >= kMidiNotes || !std::isfinite(current_.keyPitches[size_t(note)]))
+        return;  // a key the tuning leaves unmapped
     // The same note rings on its own string: pluck it again (a string can be re-plucked while sounding).
     for (int i = 0; i < kMidiVoices; ++i)
     {
@@ -274,14 +286,14 @@ void Instrument::noteOn(int note, double velocity)
         }
         if (s.sounding && s.fade < 0 && s.note == note)
         {
-            start(i, note, velocity);
+            startKey(i, note, velocity);
             return;
         }
     }
     for (int i = 0; i < kMidiVoices; ++i)
         if (!slots_[size_t(i)].sounding)
         {
-            start(i, note, velocity);
+            startKey(i, note, velocity);
             return;
         }
     // Steal: the quietest released string, else the oldest held one. It fades out over 5 ms first.
@@ -374,13 +386,17 @@ double Instrument::nextRandom()
 
 void Instrument::dronePluck(int string)
 {
-    static constexpr int kFirstOffsets[4] = {-5, -7, -1, 0};  // Pa, Ma, Ni (below Sa), Sa
-    const int sa = std::clamp(current_.droneTonic, 12, 108);
-    const int notes[kDroneStrings] = {sa + kFirstOffsets[std::clamp(current_.droneFirst, 0, 3)], sa, sa, sa - 12};
+    // Sa from its frequency when one is set, else from its MIDI note; the strings below it by pure
+    // intervals or equal-tempered ones, each with its own fine tuning.
+    const double sa = current_.droneSaHz > 0.0 ? pitchOfFrequency(current_.droneSaHz, current_.tuningA4Hz)
+                                               : double(std::clamp(current_.droneTonic, 12, 108));
+    const auto first = static_cast<DroneFirstString>(std::clamp(current_.droneFirst, 0, 3));
+    const double pitch =
+        dronePitch(string, sa, first, current_.droneTuning) + current_.droneFineCents[size_t(string)] / 100.0;
     const int slot = kMidiVoices + string;
     const double h = std::clamp(current_.humanise, 0.0, 1.0);
     const double velocity = std::clamp(current_.droneStrength * (1.0 + 0.25 * h * nextRandom()), 0.05, 1.0);
-    start(slot, notes[string], velocity);
+    start(slot, static_cast<int>(std::lround(pitch)), pitch, velocity);
     ++dronePlucks_;
 }
 
@@ -485,6 +501,11 @@ void Instrument::smoothControls(int count, double rate)
     current_.drone = target_.drone;
     current_.droneTonic = target_.droneTonic;
     current_.droneFirst = target_.droneFirst;
+    current_.droneTuning = target_.droneTuning;
+    current_.droneSaHz = std::clamp(finiteOr(target_.droneSaHz, 0.0), 0.0, 2000.0);
+    for (size_t k = 0; k < current_.droneFineCents.size(); ++k)
+        current_.droneFineCents[k] = std::clamp(finiteOr(target_.droneFineCents[k], 0.0), -100.0, 100.0);
+    current_.keyPitches = target_.keyPitches;
     current_.droneTempo = finiteOr(target_.droneTempo, defaults.droneTempo);
     current_.humanise = finiteOr(target_.humanise, 0.0);
     current_.droneStrength = std::clamp(finiteOr(target_.droneStrength, defaults.droneStrength), 0.0, 1.0);
@@ -507,7 +528,7 @@ void Instrument::retuneSounding(int count, double rate)
         if (!s.sounding || s.fade >= 0)
             continue;
         const double wanted =
-            i < kMidiVoices ? noteRatio(s.note + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(s.note);
+            i < kMidiVoices ? noteRatio(s.pitch + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(s.pitch);
         const bool pitchMoved = std::abs(wanted / s.ratio - 1.0) > 1e-9;
         const bool due = bendSettled || chunkClock_ % kRetuneChunks == 0;
         if (dampingDirty_ || (pitchMoved && due))
@@ -566,7 +587,7 @@ void Instrument::startPendingNote(int slot)
     auto& voice = *pack_->voices[size_t(slot)];
     voice.silence();
     s.sounding = false;
-    start(slot, s.pendingNote, s.pendingVelocity);
+    startKey(slot, s.pendingNote, s.pendingVelocity);
     s.pendingNote = -1;
     if (!s.pendingHeld)
     {

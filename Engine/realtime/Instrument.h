@@ -16,6 +16,7 @@
 #include "physics/StringModel.h"
 #include "realtime/Quality.h"
 #include "realtime/SnapshotBuffer.h"
+#include "realtime/Tuning.h"
 #include "realtime/Voice.h"
 
 #include <array>
@@ -87,12 +88,17 @@ struct InstrumentControls
     double gainDb = 0.0;
     double bendRangeSemitones = 2.0;
     double tuningA4Hz = 440.0;
+    // The pitch each MIDI key plays (equal temperament, or a Scala scale: Tuning.h); NaN: unmapped.
+    KeyboardPitches keyPitches = equalTemperament();
     // Tanpura drone.
     bool drone = false;
     int droneTonic = 49;     // MIDI note of Sa (C#3)
-    int droneFirst = 0;      // first string: 0 Pa, 1 Ma, 2 Ni, 3 Sa
-    double droneTempo = 60;  // plucks per minute
-    double humanise = 0.2;   // 0..1: timing and strength spread
+    double droneSaHz = 0.0;  // Sa's frequency (Hz) when above 0, instead of droneTonic
+    int droneFirst = 0;      // first string: 0 Pa, 1 Ma, 2 Ni, 3 Sa (DroneFirstString)
+    DroneTuning droneTuning = DroneTuning::just;
+    std::array<double, 4> droneFineCents{0.0, 0.0, 0.0, 0.0};  // each drone string's fine tuning
+    double droneTempo = 60;                                    // plucks per minute
+    double humanise = 0.2;                                     // 0..1: timing and strength spread
     double droneStrength = 0.7;
 };
 
@@ -172,8 +178,9 @@ public:
     long blowUps() const;
     int maxIterations() const { return maxIterations_; }  // the most of any step since construction
     long dronePlucks() const { return dronePlucks_; }
-    // The pitch ratio and note a slot plays (tests).
+    // The pitch ratio, pitch and note a slot plays (tests).
     double slotRatio(int slot) const { return slots_[size_t(slot)].ratio; }
+    double slotPitch(int slot) const { return slots_[size_t(slot)].pitch; }
     int slotNote(int slot) const { return slots_[size_t(slot)].note; }
 
     static constexpr int kChunk = 32;
@@ -181,7 +188,8 @@ public:
 private:
     struct Slot
     {
-        int note = -1;
+        int note = -1;       // the key (or the drone string's nearest note)
+        double pitch = 0.0;  // what it plays, a fractional MIDI note (Tuning.h)
         bool held = false, sustained = false, sounding = false;
         uint64_t age = 0;
         double ratio = 1.0;  // the ratio the voice is tuned to
@@ -193,7 +201,8 @@ private:
         bool pendingHeld = false, pendingSustained = false;
         double pan = 0.0;  // -1 .. 1
     };
-    void start(int slot, int note, double velocity);
+    void start(int slot, int note, double pitch, double velocity);
+    void startKey(int slot, int note, double velocity);  // a MIDI key at its pitch in keyPitches
     void retune(int slot);
     double noteRatio(double note) const;
     void applyContact();
