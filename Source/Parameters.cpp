@@ -128,6 +128,19 @@ void addDrone(Layout& layout)
     layout.add(number(ids::droneTempo, "Drone tempo", Range(20.0f, 200.0f, 0.1f), c.droneTempo, "plucks/min", 1));
     layout.add(number(ids::humanise, "Humanise", Range(0.0f, 1.0f, 0.001f), c.humanise, "", 2));
     layout.add(number(ids::droneStrength, "Drone strength", Range(0.0f, 1.0f, 0.001f), c.droneStrength, "", 2));
+    layout.add(choice(ids::droneTuning, "Drone tuning", juce::StringArray{"just", "equal temperament"},
+                      static_cast<int>(c.droneTuning)));
+    layout.add(std::make_unique<juce::AudioParameterFloat>(
+        juce::ParameterID{ids::droneSaHz, 1}, "Drone Sa frequency", Range(0.0f, 1000.0f, 0.01f),
+        static_cast<float>(c.droneSaHz),
+        juce::AudioParameterFloatAttributes().withLabel("Hz").withStringFromValueFunction([](float v, int) {
+            return v > 0.0f ? juce::String(v, 2) : juce::String("from the tonic note");  // 0: droneTonic sets Sa
+        })));
+    const char* fine[] = {ids::droneFine1, ids::droneFine2, ids::droneFine3, ids::droneFine4};
+    const char* names[] = {"Drone fine tune: first string", "Drone fine tune: Sa", "Drone fine tune: second Sa",
+                           "Drone fine tune: low Sa"};
+    for (size_t k = 0; k < std::size(fine); ++k)
+        layout.add(number(fine[k], names[k], Range(-50.0f, 50.0f, 0.1f), c.droneFineCents[k], "cents", 1));
 }
 
 int rounded(float value)
@@ -195,6 +208,9 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneTempo = get(ids::droneTempo);
     c.humanise = get(ids::humanise);
     c.droneStrength = get(ids::droneStrength);
+    c.droneTuning = rounded(get(ids::droneTuning)) == 1 ? DroneTuning::equal : DroneTuning::just;
+    c.droneSaHz = get(ids::droneSaHz);
+    c.droneFineCents = {get(ids::droneFine1), get(ids::droneFine2), get(ids::droneFine3), get(ids::droneFine4)};
     return c;
 }
 

@@ -44,6 +44,12 @@ inline constexpr const char* droneFirst = "droneFirst";
 inline constexpr const char* droneTempo = "droneTempo";
 inline constexpr const char* humanise = "humanise";
 inline constexpr const char* droneStrength = "droneStrength";
+inline constexpr const char* droneTuning = "droneTuning";
+inline constexpr const char* droneSaHz = "droneSaHz";
+inline constexpr const char* droneFine1 = "droneFine1";
+inline constexpr const char* droneFine2 = "droneFine2";
+inline constexpr const char* droneFine3 = "droneFine3";
+inline constexpr const char* droneFine4 = "droneFine4";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -72,7 +78,13 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::droneFirst,
                                                 ids::droneTempo,
                                                 ids::humanise,
-                                                ids::droneStrength};
+                                                ids::droneStrength,
+                                                ids::droneTuning,
+                                                ids::droneSaHz,
+                                                ids::droneFine1,
+                                                ids::droneFine2,
+                                                ids::droneFine3,
+                                                ids::droneFine4};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

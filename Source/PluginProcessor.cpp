@@ -69,6 +69,10 @@ JawariAudioProcessor::JawariAudioProcessor()
 {
     for (auto& c : curve_)
         c.store(1.0f);
+    const auto equal = equalTemperament();
+    for (size_t n = 0; n < keyPitches_.size(); ++n)
+        keyPitches_[n].store(equal[n]);
+    scaleName_ = "equal temperament";
     builder_ = std::make_unique<Builder>(*this);
 }
 
@@ -130,7 +134,10 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         exchange_.retire();
         packsInstalled_.fetch_add(1, std::memory_order_relaxed);
     }
-    instrument_.setControls(reader_.controls(curve_));
+    InstrumentControls controls = reader_.controls(curve_);
+    for (size_t n = 0; n < controls.keyPitches.size(); ++n)
+        controls.keyPitches[n] = keyPitches_[n].load(std::memory_order_relaxed);
+    instrument_.setControls(controls);
 
     float* left = buffer.getWritePointer(0);
     float* right = buffer.getNumChannels() > 1 ? buffer.getWritePointer(1) : nullptr;
@@ -244,6 +251,40 @@ void JawariAudioProcessor::setDampingCurvePoint(int i, float multiplier)
     curve_[size_t(i)].store(std::isfinite(multiplier) ? std::clamp(multiplier, lowest, highest) : 1.0f);
 }
 
+juce::String JawariAudioProcessor::setKeyboardTuning(const juce::String& scale, const juce::String& keyboardMap)
+{
+    KeyboardPitches pitches = equalTemperament();
+    juce::String name = "equal temperament";
+    try
+    {
+        if (scale.trim().isNotEmpty())
+        {
+            const auto parsed = parseScalaScale(scale.toStdString());
+            const auto map =
+                keyboardMap.trim().isNotEmpty() ? parseKeyboardMap(keyboardMap.toStdString()) : KeyboardMap{};
+            pitches = keyboardPitches(parsed, map);
+            name = parsed.description.empty() ? juce::String("Scala scale") : juce::String(parsed.description);
+        }
+    }
+    catch (const TuningError& e)
+    {
+        return e.what();
+    }
+    const std::lock_guard<std::mutex> lock(tuningLock_);
+    scaleText_ = scale.trim().isNotEmpty() ? scale : juce::String();
+    keyboardMapText_ = scaleText_.isNotEmpty() ? keyboardMap : juce::String();
+    scaleName_ = name;
+    for (size_t n = 0; n < pitches.size(); ++n)
+        keyPitches_[n].store(pitches[n], std::memory_order_relaxed);
+    return {};
+}
+
+juce::String JawariAudioProcessor::keyboardTuningName() const
+{
+    const std::lock_guard<std::mutex> lock(tuningLock_);
+    return scaleName_;
+}
+
 juce::ValueTree JawariAudioProcessor::state() const
 {
     juce::ValueTree tree("JawariState");
@@ -263,6 +304,14 @@ juce::ValueTree JawariAudioProcessor::state() const
     for (int i = 0; i < kDampingCurvePoints; ++i)
         curve.setProperty("p" + juce::String(i), curve_[size_t(i)].load(), nullptr);
     tree.appendChild(curve, nullptr);
+    const std::lock_guard<std::mutex> lock(tuningLock_);
+    if (scaleText_.isNotEmpty())
+    {
+        juce::ValueTree tuning("KeyboardTuning");
+        tuning.setProperty("scale", scaleText_, nullptr);
+        tuning.setProperty("keyboardMap", keyboardMapText_, nullptr);
+        tree.appendChild(tuning, nullptr);
+    }
     return tree;
 }
 
@@ -330,6 +379,12 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
     }
     const double program = numberIn(tree.getProperty("program", 0));
     currentProgram_ = program >= 0.0 && program < getNumPrograms() ? static_cast<int>(program) : 0;
+    // The keyboard's tuning; a state without one, or with one that does not parse, plays equal
+    // temperament.
+    const auto tuning = tree.getChildWithName("KeyboardTuning");
+    if (setKeyboardTuning(tuning.getProperty("scale").toString(), tuning.getProperty("keyboardMap").toString())
+            .isNotEmpty())
+        setKeyboardTuning({}, {});
 }
 
 void JawariAudioProcessor::getStateInformation(juce::MemoryBlock& destData)

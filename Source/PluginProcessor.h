@@ -6,15 +6,16 @@
 // pickup points, inharmonicity, quality, method, release) and builds a new VoicePack for them,
 // handed to the audio thread through LockFreeExchange and freed back on the builder thread.
 
+#include "Parameters.h"
 #include "realtime/Instrument.h"
 #include "realtime/LockFreeExchange.h"
-#include "Parameters.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 
 #include <array>
 #include <atomic>
 #include <memory>
+#include <mutex>
 
 namespace jawari::plugin
 {
@@ -64,6 +65,12 @@ public:
     float dampingCurvePoint(int i) const { return curve_[size_t(i)].load(); }
     void setDampingCurvePoint(int i, float multiplier);
 
+    // The keyboard's tuning: a Scala scale (.scl text) with an optional keyboard map (.kbm text),
+    // kept in the state; an empty scale is equal temperament. CT. Returns what is wrong with the
+    // texts (the tuning unchanged then), or an empty string.
+    juce::String setKeyboardTuning(const juce::String& scale, const juce::String& keyboardMap);
+    juce::String keyboardTuningName() const;  // the scale's description, or "equal temperament"
+
     juce::AudioProcessorValueTreeState& parameters() { return parameters_; }
     Instrument& instrument() { return instrument_; }
     // The output for the editor's spectrum: the newest samples, lock-free. CT reads.
@@ -83,6 +90,11 @@ private:
     juce::AudioProcessorValueTreeState parameters_;
     ParameterReader reader_;
     std::array<std::atomic<float>, kDampingCurvePoints> curve_;
+    // The keyboard's tuning as loaded (CT, under tuningLock_) and the pitch table the audio thread
+    // reads (written CT, one note at a time: a note read mid-change plays the old or the new pitch).
+    mutable std::mutex tuningLock_;
+    juce::String scaleText_, keyboardMapText_, scaleName_;
+    std::array<std::atomic<double>, kMidiNotes> keyPitches_;
     Instrument instrument_;
     LockFreeExchange<VoicePack> exchange_;
     std::unique_ptr<Builder> builder_;

@@ -152,7 +152,7 @@ TEST_CASE("The state round-trips every parameter and the damping curve", "[plugi
         CHECK(pa->convertFrom0to1(pa->getValue()) == Approx(pb->convertFrom0to1(pb->getValue())).margin(1e-5));
         ++checked;
     }
-    CHECK(checked == 26);
+    CHECK(checked == int(kParameterCount));
     for (int i = 0; i < kDampingCurvePoints; ++i)
         CHECK(b.dampingCurvePoint(i) == Approx(std::clamp(0.25f + 0.5f * float(i), 0.125f, 8.0f)));
 }
@@ -240,7 +240,13 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::droneFirst, 0.0f},
                                                       {ids::droneTempo, 60.0f},
                                                       {ids::humanise, 0.2f},
-                                                      {ids::droneStrength, 0.7f}};
+                                                      {ids::droneStrength, 0.7f},
+                                                      {ids::droneTuning, 0.0f},
+                                                      {ids::droneSaHz, 0.0f},
+                                                      {ids::droneFine1, 0.0f},
+                                                      {ids::droneFine2, 0.0f},
+                                                      {ids::droneFine3, 0.0f},
+                                                      {ids::droneFine4, 0.0f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -285,7 +291,13 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::droneFirst, 2.0f},
                                                     {ids::droneTempo, 90.0f},
                                                     {ids::humanise, 0.5f},
-                                                    {ids::droneStrength, 0.35f}};
+                                                    {ids::droneStrength, 0.35f},
+                                                    {ids::droneTuning, 1.0f},
+                                                    {ids::droneSaHz, 146.5f},
+                                                    {ids::droneFine1, -3.5f},
+                                                    {ids::droneFine2, 1.5f},
+                                                    {ids::droneFine3, 2.5f},
+                                                    {ids::droneFine4, -12.0f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -325,6 +337,12 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(c.droneTempo == Approx(90.0).epsilon(1e-4));
     CHECK(c.humanise == Approx(0.5).epsilon(1e-4));
     CHECK(c.droneStrength == Approx(0.35).epsilon(1e-4));
+    CHECK(c.droneTuning == DroneTuning::equal);
+    CHECK(c.droneSaHz == Approx(146.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[0] == Approx(-3.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[1] == Approx(1.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[2] == Approx(2.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[3] == Approx(-12.0).epsilon(1e-4));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
@@ -582,4 +600,38 @@ TEST_CASE("The editor opens without a window and draws the sounding string", "[p
     const auto image = editor->createComponentSnapshot(editor->getLocalBounds());
     CHECK(image.getWidth() == 1200);
     p.editorBeingDeleted(editor.get());
+}
+
+TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one is refused", "[plugin]")
+{
+    const juce::String justScale =
+        "5-limit just\n12\n16/15\n9/8\n6/5\n5/4\n4/3\n45/32\n3/2\n8/5\n5/3\n9/5\n15/8\n2/1\n";
+    const juce::String a440 = "12\n0\n127\n60\n69\n440.0\n12\n0\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n11\n";
+    JawariAudioProcessor p;
+    p.prepareToPlay(48000.0, 512);
+    setParameter(p, ids::obstacleHeight, -5.0f);  // the bridge out of reach: a free string, a clean pitch
+    REQUIRE(p.waitForBuilds());
+    CHECK(p.setKeyboardTuning(justScale, a440).isEmpty());
+    CHECK(p.keyboardTuningName() == "5-limit just");
+    // G4 (67) is C 3/2 = 396 Hz in this tuning (392.0 Hz in equal temperament).
+    const auto y = renderNote(p, 48000.0, 512, 1.5, 67);
+    const double f = peakFrequency(y, 48000.0, 380.0, 410.0, 4800, y.size() - 4800);
+    INFO("G4 plays " << f << " Hz");
+    CHECK(std::abs(f / 396.0 - 1.0) < 0.002);
+
+    // The state carries the scale: a second processor restores it.
+    juce::MemoryBlock saved;
+    p.getStateInformation(saved);
+    JawariAudioProcessor q;
+    q.setStateInformation(saved.getData(), int(saved.getSize()));
+    CHECK(q.keyboardTuningName() == "5-limit just");
+
+    // A bad scale is refused with its problem named, and the tuning stays.
+    const auto error = p.setKeyboardTuning("broken\n3\n100.0\n", {});
+    INFO("error: " << error);
+    CHECK(error.contains("announces 3 pitches but gives 1"));
+    CHECK(p.keyboardTuningName() == "5-limit just");
+    // Back to equal temperament.
+    CHECK(p.setKeyboardTuning({}, {}).isEmpty());
+    CHECK(p.keyboardTuningName() == "equal temperament");
 }

@@ -228,11 +228,12 @@ void Instrument::applyContact()
         v->setContactLaw(law, current_.obstacleHeight);
 }
 
-// A MIDI key: the pitch its tuning gives it (an unmapped key does not sound).
+// A MIDI key: the pitch its tuning gives it (an unmapped key does not sound). The newest tuning
+// applies at once: pitches are not smoothed.
 void Instrument::startKey(int slot, int note, double velocity)
 {
     const double pitch =
-        note >= 0 && note < kMidiNotes ? current_.keyPitches[size_t(note)] : std::numeric_limits<double>::quiet_NaN();
+        note >= 0 && note < kMidiNotes ? target_.keyPitches[size_t(note)] : std::numeric_limits<double>::quiet_NaN();
     if (std::isfinite(pitch))
         start(slot, note, pitch, velocity);
 }
@@ -273,7 +274,7 @@ void Instrument::noteOn(int note, double velocity)
         return;
     }
     velocity = std::min(velocity, 1.0);
-    if (note < 0 || note >= kMidiNotes || !std::isfinite(current_.keyPitches[size_t(note)]))
+    if (note < 0 || note >= kMidiNotes || !std::isfinite(target_.keyPitches[size_t(note)]))
         return;  // a key the tuning leaves unmapped
     // The same note rings on its own string: pluck it again (a string can be re-plucked while sounding).
     for (int i = 0; i < kMidiVoices; ++i)
@@ -505,7 +506,6 @@ void Instrument::smoothControls(int count, double rate)
     current_.droneSaHz = std::clamp(finiteOr(target_.droneSaHz, 0.0), 0.0, 2000.0);
     for (size_t k = 0; k < current_.droneFineCents.size(); ++k)
         current_.droneFineCents[k] = std::clamp(finiteOr(target_.droneFineCents[k], 0.0), -100.0, 100.0);
-    current_.keyPitches = target_.keyPitches;
     current_.droneTempo = finiteOr(target_.droneTempo, defaults.droneTempo);
     current_.humanise = finiteOr(target_.humanise, 0.0);
     current_.droneStrength = std::clamp(finiteOr(target_.droneStrength, defaults.droneStrength), 0.0, 1.0);
