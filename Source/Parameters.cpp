@@ -128,6 +128,12 @@ void addDrone(Layout& layout)
     layout.add(number(ids::droneTempo, "Drone tempo", Range(20.0f, 200.0f, 0.1f), c.droneTempo, "plucks/min", 1));
     layout.add(number(ids::humanise, "Humanise", Range(0.0f, 1.0f, 0.001f), c.humanise, "", 2));
     layout.add(number(ids::droneStrength, "Drone strength", Range(0.0f, 1.0f, 0.001f), c.droneStrength, "", 2));
+}
+
+// How the drone is tuned.
+void addDroneTuning(Layout& layout)
+{
+    const auto& c = kControlDefaults;
     layout.add(choice(ids::droneTuning, "Drone tuning", juce::StringArray{"just", "equal temperament"},
                       static_cast<int>(c.droneTuning)));
     layout.add(std::make_unique<juce::AudioParameterFloat>(
@@ -141,6 +147,15 @@ void addDrone(Layout& layout)
                            "Drone fine tune: low Sa"};
     for (size_t k = 0; k < std::size(fine); ++k)
         layout.add(number(fine[k], names[k], Range(-50.0f, 50.0f, 0.1f), c.droneFineCents[k], "cents", 1));
+}
+
+// How MIDI is read.
+void addMidi(Layout& layout)
+{
+    const MidiSettings m;
+    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::mpe, 1}, "MPE", m.mpe));
+    layout.add(
+        number(ids::mpeBendRange, "MPE note bend range", Range(1.0f, 96.0f, 1.0f), m.mpeBendRange, "semitones", 0));
 }
 
 int rounded(float value)
@@ -157,6 +172,8 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     addPointsAndDamping(layout);
     addQualityAndOutput(layout);
     addDrone(layout);
+    addDroneTuning(layout);
+    addMidi(layout);
     return layout;
 }
 
@@ -212,6 +229,11 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneSaHz = get(ids::droneSaHz);
     c.droneFineCents = {get(ids::droneFine1), get(ids::droneFine2), get(ids::droneFine3), get(ids::droneFine4)};
     return c;
+}
+
+MidiSettings ParameterReader::midi() const
+{
+    return {get(ids::mpe) > 0.5f, get(ids::mpeBendRange)};
 }
 
 }  // namespace jawari::plugin

@@ -158,22 +158,11 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
             position += count;
         }
     };
+    const MidiSettings settings = reader_.midi();
     for (const auto metadata : midi)
     {
         renderTo(std::clamp(metadata.samplePosition, 0, numSamples));
-        const auto m = metadata.getMessage();
-        if (m.isNoteOn())
-            instrument_.noteOn(m.getNoteNumber(), m.getFloatVelocity());
-        else if (m.isNoteOff())
-            instrument_.noteOff(m.getNoteNumber());
-        else if (m.isPitchWheel())
-            instrument_.pitchBend((m.getPitchWheelValue() - 8192) / 8192.0);
-        else if (m.isSustainPedalOn())
-            instrument_.sustain(true);
-        else if (m.isSustainPedalOff())
-            instrument_.sustain(false);
-        else if (m.isAllNotesOff() || m.isAllSoundOff())
-            instrument_.allNotesOff();
+        handleMidi(metadata.getMessage(), settings);
     }
     renderTo(numSamples);
     for (int c = 2; c < buffer.getNumChannels(); ++c)
@@ -186,6 +175,38 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         w = (w + 1) % kRecent;
     }
     recentWrite_.store(w, std::memory_order_release);
+}
+
+// One MIDI message to the instrument. Under MPE (the lower zone) a note on channel 2..16 carries
+// its own bend, pressure and slide (CC 74); channel 1's bend, and every bend without MPE, moves
+// every note.
+void JawariAudioProcessor::handleMidi(const juce::MidiMessage& m, const MidiSettings& settings)
+{
+    const int channel = m.getChannel();
+    const bool member = settings.mpe && channel >= 2;
+    const int noteChannel = member ? channel : 0;
+    if (m.isNoteOn())
+        instrument_.noteOn(m.getNoteNumber(), m.getFloatVelocity(), noteChannel);
+    else if (m.isNoteOff())
+        instrument_.noteOff(m.getNoteNumber(), noteChannel);
+    else if (m.isPitchWheel())
+    {
+        const double amount = (m.getPitchWheelValue() - 8192) / 8192.0;
+        if (member)
+            instrument_.channelBend(channel, amount * settings.mpeBendRange);
+        else
+            instrument_.pitchBend(amount);
+    }
+    else if (member && m.isChannelPressure())
+        instrument_.channelPressure(channel, m.getChannelPressureValue() / 127.0);
+    else if (member && m.isControllerOfType(74))
+        instrument_.channelSlide(channel, m.getControllerValue() / 127.0);
+    else if (m.isSustainPedalOn())
+        instrument_.sustain(true);
+    else if (m.isSustainPedalOff())
+        instrument_.sustain(false);
+    else if (m.isAllNotesOff() || m.isAllSoundOff())
+        instrument_.allNotesOff();
 }
 
 int JawariAudioProcessor::readRecentOutput(float* dest, int count)

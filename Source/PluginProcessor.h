@@ -86,6 +86,7 @@ private:
     class Builder;
     void handleAsyncUpdate() override;
     void installNow(std::unique_ptr<VoicePack> pack);
+    void handleMidi(const juce::MidiMessage& m, const MidiSettings& settings);  // RT
 
     juce::AudioProcessorValueTreeState parameters_;
     ParameterReader reader_;

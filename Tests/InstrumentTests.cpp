@@ -169,7 +169,7 @@ TEST_CASE("The tanpura drone plucks Pa Sa Sa Sa in cycle on its own bridges", "[
     InstrumentControls c;
     c.drone = true;
     c.droneTuning = DroneTuning::equal;  // the equal-tempered notes below; the just ones in TuningTests
-    c.droneTempo = 120.0;  // a pluck every 0.5 s, 1 s after the low Sa: a 2.5 s cycle
+    c.droneTempo = 120.0;                // a pluck every 0.5 s, 1 s after the low Sa: a 2.5 s cycle
     c.humanise = 0.0;
     c.droneTonic = 49;
     instrument.setControls(c);
@@ -248,4 +248,48 @@ TEST_CASE("A string decaying to nothing leaves no subnormal numbers behind", "[i
     INFO("modal values: " << zero << " exactly zero, " << subnormal << " subnormal");
     CHECK(subnormal == 0);
     CHECK(zero > 0);  // the decay did reach the bottom of the range
+}
+
+TEST_CASE("MPE: one note bends on its own channel while another holds its pitch; pressure and slide act per note",
+          "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    instrument.setControls(freeControls());
+    instrument.install(pack.get(), nullptr);
+    instrument.noteOn(57, 0.8, 2);  // A3 on channel 2
+    instrument.noteOn(52, 0.8, 3);  // E3 on channel 3
+    play(instrument, 0.2);
+    instrument.channelBend(2, 2.0);  // A3 up a whole tone, to B3
+    const auto y = play(instrument, 1.2);
+    const auto frequency = [&](int slot) { return pack->baseFundamentalHz * instrument.slotRatio(slot); };
+    REQUIRE(instrument.slotChannel(0) == 2);
+    REQUIRE(instrument.slotChannel(1) == 3);
+    const double b3 = 440.0 * std::pow(2.0, -10.0 / 12.0), e3 = 440.0 * std::pow(2.0, -17.0 / 12.0);
+    CHECK(std::abs(frequency(0) / b3 - 1.0) < 1e-12);
+    CHECK(std::abs(frequency(1) / e3 - 1.0) < 1e-12);
+    const double bent = peakFrequency(y, 48000.0, 235.0, 255.0, 9600, y.size() - 9600);
+    const double held = peakFrequency(y, 48000.0, 158.0, 170.0, 9600, y.size() - 9600);
+    INFO("bent note " << bent << " Hz (B3 " << b3 << "), held note " << held << " Hz (E3 " << e3 << ")");
+    CHECK(std::abs(bent / b3 - 1.0) < 0.003);
+    CHECK(std::abs(held / e3 - 1.0) < 0.003);
+
+    // Pressure on channel 3 presses E3's bridge in by up to 0.5 mm; A3's stays.
+    const double before = pack->voices[1]->solver().contact(0).height;
+    instrument.channelPressure(3, 1.0);
+    play(instrument, 0.01);
+    CHECK(pack->voices[1]->solver().contact(0).height - before == Approx(Instrument::kPressureHeightMetres));
+    CHECK(pack->voices[0]->solver().contact(0).height == before);
+    // Slide 0 on channel 2 doubles A3's damping; E3's stays.
+    const double sigmaA = pack->voices[0]->solver().sigma()[0], sigmaE = pack->voices[1]->solver().sigma()[0];
+    instrument.channelSlide(2, 0.0);
+    play(instrument, 0.01);
+    CHECK(pack->voices[0]->solver().sigma()[0] / sigmaA == Approx(2.0).epsilon(1e-9));
+    CHECK(pack->voices[1]->solver().sigma()[0] == sigmaE);
+    // A note-off on another channel leaves the note alone; on its own, it releases it.
+    instrument.noteOff(57, 3);
+    CHECK(instrument.activeStrings() == 2);
+    instrument.noteOff(57, 2);
+    play(instrument, 3.0);
+    CHECK(instrument.activeStrings() == 1);
 }

@@ -246,7 +246,9 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::droneFine1, 0.0f},
                                                       {ids::droneFine2, 0.0f},
                                                       {ids::droneFine3, 0.0f},
-                                                      {ids::droneFine4, 0.0f}};
+                                                      {ids::droneFine4, 0.0f},
+                                                      {ids::mpe, 0.0f},
+                                                      {ids::mpeBendRange, 48.0f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -297,7 +299,9 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::droneFine1, -3.5f},
                                                     {ids::droneFine2, 1.5f},
                                                     {ids::droneFine3, 2.5f},
-                                                    {ids::droneFine4, -12.0f}};
+                                                    {ids::droneFine4, -12.0f},
+                                                    {ids::mpe, 1.0f},
+                                                    {ids::mpeBendRange, 24.0f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -343,6 +347,8 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(c.droneFineCents[1] == Approx(1.5).epsilon(1e-4));
     CHECK(c.droneFineCents[2] == Approx(2.5).epsilon(1e-4));
     CHECK(c.droneFineCents[3] == Approx(-12.0).epsilon(1e-4));
+    CHECK(reader.midi().mpe);
+    CHECK(reader.midi().mpeBendRange == Approx(24.0));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
@@ -634,4 +640,37 @@ TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one
     // Back to equal temperament.
     CHECK(p.setKeyboardTuning({}, {}).isEmpty());
     CHECK(p.keyboardTuningName() == "equal temperament");
+}
+
+TEST_CASE("MPE through processBlock: a note bends on its own channel while another holds its pitch", "[plugin]")
+{
+    JawariAudioProcessor p;
+    p.prepareToPlay(48000.0, 256);
+    setParameter(p, ids::obstacleHeight, -5.0f);  // free strings: clean pitches
+    setParameter(p, ids::mpe, 1.0f);
+    REQUIRE(p.waitForBuilds());
+    juce::AudioBuffer<float> buffer(2, 256);
+    std::vector<double> out;
+    for (int block = 0; block < 300; ++block)  // 1.6 s
+    {
+        juce::MidiBuffer midi;
+        if (block == 0)
+        {
+            midi.addEvent(juce::MidiMessage::noteOn(2, 57, juce::uint8(100)), 0);  // A3 on channel 2
+            midi.addEvent(juce::MidiMessage::noteOn(3, 52, juce::uint8(100)), 0);  // E3 on channel 3
+        }
+        if (block == 20)  // channel 2 bent by 2 of its 48 semitones: A3 to B3
+            midi.addEvent(juce::MidiMessage::pitchWheel(2, 8192 + 8192 * 2 / 48), 0);
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        for (int i = 0; i < 256; ++i)
+            out.push_back(buffer.getSample(0, i) + buffer.getSample(1, i));
+    }
+    const double b3 = 440.0 * std::pow(2.0, -10.0 / 12.0), e3 = 440.0 * std::pow(2.0, -17.0 / 12.0);
+    const double bent = peakFrequency(out, 48000.0, 235.0, 255.0, 12000, out.size() - 12000);
+    const double held = peakFrequency(out, 48000.0, 158.0, 170.0, 12000, out.size() - 12000);
+    INFO("bent note " << bent << " Hz (B3 " << b3 << "), held " << held << " Hz (E3 " << e3 << ")");
+    CHECK(std::abs(bent / b3 - 1.0) < 0.003);
+    CHECK(std::abs(held / e3 - 1.0) < 0.003);
+    CHECK(p.instrument().slotChannel(0) == 2);
 }

@@ -208,7 +208,10 @@ void Instrument::retune(int slot)
     string.damping.deltaVe = std::max(current_.deltaVe, 0.0);
     string.damping.qTeInv = std::max(current_.qTeInv, 0.0);
     const auto& f = voice.baseFrequencies();
-    const double scale = std::max(current_.decayScale, 0.0);
+    // The slide of the note's MPE channel: 0 doubles the damping, 1 halves it.
+    const int channel = slots_[size_t(slot)].channel;
+    const double slide = channel > 0 ? std::pow(4.0, 0.5 - channels_[size_t(channel)].slide) : 1.0;
+    const double scale = std::max(current_.decayScale, 0.0) * slide;
     for (int p = 0; p < M; ++p)
     {
         const double fp = r * f[size_t(p)];
@@ -223,29 +226,76 @@ void Instrument::applyContact()
 {
     if (pack_ == nullptr)
         return;
-    const ContactLaw law{std::max(current_.stiffness, 0.0), std::max(current_.exponent, 1.0)};
-    for (auto& v : pack_->voices)
-        v->setContactLaw(law, current_.obstacleHeight);
+    const ContactLaw law = contactLaw();
+    for (int i = 0; i < kSlots; ++i)
+        pack_->voices[size_t(i)]->setContactLaw(law, slotHeight(i));
+}
+
+ContactLaw Instrument::contactLaw() const
+{
+    return {std::max(current_.stiffness, 0.0), std::max(current_.exponent, 1.0)};
 }
 
 // A MIDI key: the pitch its tuning gives it (an unmapped key does not sound). The newest tuning
 // applies at once: pitches are not smoothed.
-void Instrument::startKey(int slot, int note, double velocity)
+void Instrument::startKey(int slot, int note, double velocity, int channel)
 {
     const double pitch =
         note >= 0 && note < kMidiNotes ? target_.keyPitches[size_t(note)] : std::numeric_limits<double>::quiet_NaN();
     if (std::isfinite(pitch))
-        start(slot, note, pitch, velocity);
+        start(slot, note, pitch, velocity, channel);
 }
 
-void Instrument::start(int slot, int note, double pitch, double velocity)
+double Instrument::slotPitchNow(int slot) const
+{
+    const auto& s = slots_[size_t(slot)];
+    if (slot >= kMidiVoices)
+        return s.pitch;
+    const double pitch = s.pitch + bendSmoothed_ * current_.bendRangeSemitones;
+    return s.channel > 0 ? pitch + channels_[size_t(s.channel)].bend : pitch;
+}
+
+double Instrument::slotHeight(int slot) const
+{
+    const int channel = slots_[size_t(slot)].channel;
+    return channel > 0 ? current_.obstacleHeight + kPressureHeightMetres * channels_[size_t(channel)].pressure
+                       : current_.obstacleHeight;
+}
+
+void Instrument::channelBend(int channel, double semitones)
+{
+    if (channel >= 1 && channel <= 16)
+        channels_[size_t(channel)].bend = std::isfinite(semitones) ? std::clamp(semitones, -96.0, 96.0) : 0.0;
+}
+
+void Instrument::channelPressure(int channel, double amount)
+{
+    if (channel < 1 || channel > 16)
+        return;
+    channels_[size_t(channel)].pressure = std::isfinite(amount) ? std::clamp(amount, 0.0, 1.0) : 0.0;
+    pressureMoved_ = true;
+}
+
+void Instrument::channelSlide(int channel, double amount)
+{
+    if (channel < 1 || channel > 16)
+        return;
+    channels_[size_t(channel)].slide = std::isfinite(amount) ? std::clamp(amount, 0.0, 1.0) : 0.5;
+    slideMoved_[size_t(channel)] = true;
+}
+
+void Instrument::start(int slot, int note, double pitch, double velocity, int channel)
 {
     auto& s = slots_[size_t(slot)];
     auto& voice = *pack_->voices[size_t(slot)];
     const bool fromRest = !s.sounding || s.note != note;
+    const bool newChannel = s.channel != channel;
     s.note = note;
     s.pitch = pitch;
-    s.ratio = slot < kMidiVoices ? noteRatio(pitch + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(pitch);
+    s.channel = channel;
+    s.ratio = noteRatio(slotPitchNow(slot));
+    if (newChannel)
+        voice.setContactLaw(contactLaw(), slotHeight(slot));
     if (fromRest)
     {
         voice.silence();
@@ -264,13 +314,13 @@ void Instrument::start(int slot, int note, double pitch, double velocity)
     s.age = ++clock_;
 }
 
-void Instrument::noteOn(int note, double velocity)
+void Instrument::noteOn(int note, double velocity, int channel)
 {
     if (pack_ == nullptr)
         return;
     if (!(velocity > 0.0))
     {
-        noteOff(note);
+        noteOff(note, channel);
         return;
     }
     velocity = std::min(velocity, 1.0);
@@ -280,21 +330,21 @@ void Instrument::noteOn(int note, double velocity)
     for (int i = 0; i < kMidiVoices; ++i)
     {
         auto& s = slots_[size_t(i)];
-        if (s.fade >= 0 && s.pendingNote == note)
+        if (s.fade >= 0 && s.pendingNote == note && s.pendingChannel == channel)
         {
             s.pendingVelocity = velocity;
             return;
         }
-        if (s.sounding && s.fade < 0 && s.note == note)
+        if (s.sounding && s.fade < 0 && s.note == note && s.channel == channel)
         {
-            startKey(i, note, velocity);
+            startKey(i, note, velocity, channel);
             return;
         }
     }
     for (int i = 0; i < kMidiVoices; ++i)
         if (!slots_[size_t(i)].sounding)
         {
-            startKey(i, note, velocity);
+            startKey(i, note, velocity, channel);
             return;
         }
     // Steal: the quietest released string, else the oldest held one. It fades out over 5 ms first.
@@ -313,24 +363,25 @@ void Instrument::noteOn(int note, double velocity)
     if (s.fade < 0)
         s.fade = fadeLength_;
     s.pendingNote = note;
+    s.pendingChannel = channel;
     s.pendingVelocity = velocity;
     s.pendingHeld = true;
     s.pendingSustained = false;
 }
 
-void Instrument::noteOff(int note)
+void Instrument::noteOff(int note, int channel)
 {
     if (pack_ == nullptr)
         return;
     for (int i = 0; i < kMidiVoices; ++i)
     {
         auto& s = slots_[size_t(i)];
-        if (s.fade >= 0 && s.pendingNote == note && s.pendingHeld)
+        if (s.fade >= 0 && s.pendingNote == note && s.pendingChannel == channel && s.pendingHeld)
         {
             s.pendingHeld = false;
             s.pendingSustained = sustain_;
         }
-        if (s.note != note || !s.held)
+        if (s.note != note || s.channel != channel || !s.held)
             continue;
         s.held = false;
         if (sustain_)
@@ -527,17 +578,22 @@ void Instrument::retuneSounding(int count, double rate)
         auto& s = slots_[size_t(i)];
         if (!s.sounding || s.fade >= 0)
             continue;
-        const double wanted =
-            i < kMidiVoices ? noteRatio(s.pitch + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(s.pitch);
+        const double wanted = noteRatio(slotPitchNow(i));
         const bool pitchMoved = std::abs(wanted / s.ratio - 1.0) > 1e-9;
         const bool due = bendSettled || chunkClock_ % kRetuneChunks == 0;
-        if (dampingDirty_ || (pitchMoved && due))
+        if (dampingDirty_ || slideMoved_[size_t(s.channel)] || (pitchMoved && due))
         {
             s.ratio = wanted;
             retune(i);
         }
     }
     dampingDirty_ = false;
+    slideMoved_.fill(false);
+    if (pressureMoved_)
+    {
+        applyContact();
+        pressureMoved_ = false;
+    }
 }
 
 // One string's chunk, panned and mixed into left/right with the gain ramp from gainStart (and a
@@ -587,7 +643,7 @@ void Instrument::startPendingNote(int slot)
     auto& voice = *pack_->voices[size_t(slot)];
     voice.silence();
     s.sounding = false;
-    startKey(slot, s.pendingNote, s.pendingVelocity);
+    startKey(slot, s.pendingNote, s.pendingVelocity, s.pendingChannel);
     s.pendingNote = -1;
     if (!s.pendingHeld)
     {

@@ -163,8 +163,17 @@ public:
     void install(VoicePack* pack, VoicePack* previous);
     VoicePack* pack() const { return pack_; }
 
-    void noteOn(int note, double velocity);                                       // RT, velocity 0..1
-    void noteOff(int note);                                                       // RT
+    // RT, velocity 0..1. `channel`: the note's own MIDI channel under MPE (1..16), whose expression
+    // it follows; 0 for none (every note then follows only the instrument's bend).
+    void noteOn(int note, double velocity, int channel = 0);
+    void noteOff(int note, int channel = 0);  // RT
+    // RT: MPE per-note expression for the notes of one channel (1..16): their own bend (semitones),
+    // pressure (0..1: presses their strings' bridge up to kPressureHeightMetres further in, for more
+    // buzz) and slide (0..1, 0.5 neutral: 0 doubles their damping, 1 halves it).
+    void channelBend(int channel, double semitones);
+    void channelPressure(int channel, double amount);
+    void channelSlide(int channel, double amount);
+    static constexpr double kPressureHeightMetres = 0.5e-3;
     void sustain(bool down);                                                      // RT
     void pitchBend(double amount);                                                // RT, -1..1 of the bend range
     void allNotesOff();                                                           // RT: every MIDI string released
@@ -181,6 +190,7 @@ public:
     // The pitch ratio, pitch and note a slot plays (tests).
     double slotRatio(int slot) const { return slots_[size_t(slot)].ratio; }
     double slotPitch(int slot) const { return slots_[size_t(slot)].pitch; }
+    int slotChannel(int slot) const { return slots_[size_t(slot)].channel; }
     int slotNote(int slot) const { return slots_[size_t(slot)].note; }
 
     static constexpr int kChunk = 32;
@@ -189,6 +199,7 @@ private:
     struct Slot
     {
         int note = -1;       // the key (or the drone string's nearest note)
+        int channel = 0;     // its MPE channel, 0 for none
         double pitch = 0.0;  // what it plays, a fractional MIDI note (Tuning.h)
         bool held = false, sustained = false, sounding = false;
         uint64_t age = 0;
@@ -197,15 +208,19 @@ private:
         // A steal: the string fades out over kFadeSamples, then the pending note starts from rest.
         int fade = -1;
         int pendingNote = -1;
+        int pendingChannel = 0;
         double pendingVelocity = 0.0;
         bool pendingHeld = false, pendingSustained = false;
         double pan = 0.0;  // -1 .. 1
     };
-    void start(int slot, int note, double pitch, double velocity);
-    void startKey(int slot, int note, double velocity);  // a MIDI key at its pitch in keyPitches
+    void start(int slot, int note, double pitch, double velocity, int channel = 0);
+    void startKey(int slot, int note, double velocity, int channel);  // a MIDI key at its pitch in keyPitches
+    double slotPitchNow(int slot) const;                              // its pitch with the bends that apply to it
+    double slotHeight(int slot) const;                                // its bridge's height with its pressure
     void retune(int slot);
     double noteRatio(double note) const;
     void applyContact();
+    ContactLaw contactLaw() const;
     void dronePluck(int string);
     void scheduleDrone(int samples);
     void publishSnapshot();
@@ -215,6 +230,14 @@ private:
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
 
+    // Per-note expression of each MIDI channel (index 1..16; 0 stays neutral).
+    struct Expression
+    {
+        double bend = 0.0, pressure = 0.0, slide = 0.5;
+    };
+    std::array<Expression, 17> channels_{};
+    std::array<bool, 17> slideMoved_{};
+    bool pressureMoved_ = false;
     VoicePack* pack_ = nullptr;
     int fadeLength_ = 1;  // a steal's fade-out, host samples
     std::array<Slot, kSlots> slots_{};
