@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <limits>
 #include <string>
 
 namespace jawari::plugin
@@ -418,21 +420,42 @@ void JawariAudioProcessor::setStateInformation(const void* data, int sizeInBytes
 {
     // Anything that is not a Jawari state (empty, truncated, random) is ignored: the current
     // settings stay, nothing crashes. A Jawari state of any version is read field by field.
-    // JUCE's binary XML is a magic number, a length and that many bytes of UTF-8. The text is
-    // checked here before JUCE parses it: its UTF-8 iterator trusts lead bytes and reads past the
-    // end of a string whose last sequence is cut short (found by tools/fuzz.sh under ASan).
+    // JUCE's binary XML is a magic number, a length and that many bytes of UTF-8.
     if (data == nullptr || sizeInBytes <= 8)
         return;
     const auto* bytes = static_cast<const char*>(data);
     if (juce::ByteOrder::littleEndianInt(bytes) != 0x21324356u)
         return;
     const auto length = static_cast<juce::int64>(juce::ByteOrder::littleEndianInt(bytes + 4));
-    if (length <= 0 || length > sizeInBytes - 8 || !juce::CharPointer_UTF8::isValidString(bytes + 8, int(length)))
+    if (length <= 0 || length > sizeInBytes - 8)
         return;
-    const auto xml = juce::parseXML(juce::String::fromUTF8(bytes + 8, int(length)));
-    if (xml == nullptr || !xml->hasTagName("JawariState"))
-        return;
+    static_cast<void>(setStateFromXml(bytes + 8, static_cast<size_t>(length)));
+}
+
+juce::Result JawariAudioProcessor::setStateFromXml(const char* text, size_t length)
+{
+    // The UTF-8 is checked before JUCE parses the XML: its UTF-8 iterator trusts lead bytes and
+    // reads past the end of a string whose last sequence is cut short (found by tools/fuzz.sh
+    // under ASan).
+    if (length >= 3 && std::memcmp(text, "\xEF\xBB\xBF", 3) == 0)  // a byte order mark, as editors may add
+    {
+        text += 3;
+        length -= 3;
+    }
+    if (length > static_cast<size_t>(std::numeric_limits<int>::max()))
+        return juce::Result::fail("too large for a state");
+    if (!juce::CharPointer_UTF8::isValidString(text, static_cast<int>(length)))
+        return juce::Result::fail("not valid UTF-8 text");
+    juce::XmlDocument document(juce::String::fromUTF8(text, static_cast<int>(length)));
+    const auto xml = document.getDocumentElement();
+    if (xml == nullptr)
+        return juce::Result::fail(document.getLastParseError().isEmpty() ? "not XML"
+                                                                         : "not XML: " + document.getLastParseError());
+    if (!xml->hasTagName("JawariState"))
+        return juce::Result::fail("not a Jawari state: its root element is <" + xml->getTagName()
+                                  + ">, not <JawariState>");
     setState(juce::ValueTree::fromXml(*xml));
+    return juce::Result::ok();
 }
 
 juce::Result JawariAudioProcessor::saveUserPreset(const juce::String& name)
@@ -454,11 +477,16 @@ juce::Result JawariAudioProcessor::saveUserPreset(const juce::String& name)
 
 juce::Result JawariAudioProcessor::loadUserPreset(const juce::File& file)
 {
-    const auto xml = juce::XmlDocument::parse(file);
-    if (xml == nullptr || !xml->hasTagName("JawariState"))
-        return juce::Result::fail(file.getFullPathName() + " is not a Jawari preset");
-    setState(juce::ValueTree::fromXml(*xml));
-    return juce::Result::ok();
+    constexpr juce::int64 largest = 1 << 20;  // a state is a few kilobytes
+    juce::MemoryBlock data;
+    if (!file.existsAsFile())
+        return juce::Result::fail(file.getFullPathName() + ": no such file");
+    if (file.getSize() > largest)
+        return juce::Result::fail(file.getFullPathName() + ": larger than a Jawari state can be");
+    if (!file.loadFileAsData(data))
+        return juce::Result::fail(file.getFullPathName() + ": cannot be read");
+    const auto result = setStateFromXml(static_cast<const char*>(data.getData()), data.getSize());
+    return result.wasOk() ? result : juce::Result::fail(file.getFullPathName() + ": " + result.getErrorMessage());
 }
 
 }  // namespace jawari::plugin

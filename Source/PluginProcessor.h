@@ -57,7 +57,12 @@ public:
     juce::ValueTree state() const;
     void setState(const juce::ValueTree& tree);
 
-    // User presets: the state as XML files in userPresetFolder(). CT. Errors are returned, not thrown.
+    // The state as XML text (UTF-8, as a user preset file or inside getStateInformation's data),
+    // checked before it is applied; on failure the result says what is wrong and nothing changes. CT.
+    juce::Result setStateFromXml(const char* text, size_t length);
+
+    // User presets: the state as XML files in userPresetFolder(), read by setStateFromXml. CT.
+    // Errors are returned, not thrown.
     juce::Result saveUserPreset(const juce::String& name);
     juce::Result loadUserPreset(const juce::File& file);
 

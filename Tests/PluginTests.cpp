@@ -22,6 +22,7 @@
 #include <atomic>
 #include <cmath>
 #include <random>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -545,6 +546,42 @@ TEST_CASE("setStateInformation survives empty, truncated, random and older-versi
     const auto y = renderNote(p, 48000.0, 256, 0.3);
     CHECK(peakOf(y) > 1e-3);
     CHECK(peakOf(y) <= 1.0);
+}
+
+TEST_CASE("A state file that is not UTF-8, not XML or not a Jawari state is refused with its reason", "[plugin]")
+{
+    JawariAudioProcessor p;
+    setParameter(p, ids::gain, -6.0f);
+    const auto xml = p.state().toXmlString();
+    setParameter(p, ids::gain, -3.0f);
+    struct Case
+    {
+        std::string bytes, expected;
+    };
+    const std::vector<Case> cases = {
+        {"<JawariState a=\"\xe9\"/>", "not valid UTF-8"},
+        {"<JawariState><Parameters>", "not XML"},
+        {" \n", "not XML"},
+        {"<Other/>", "its root element is <Other>, not <JawariState>"},
+    };
+    juce::TemporaryFile file(".jawaripreset");
+    for (const auto& c : cases)
+    {
+        REQUIRE(file.getFile().replaceWithData(c.bytes.data(), c.bytes.size()));
+        const auto result = p.loadUserPreset(file.getFile());
+        INFO(c.bytes << ": " << result.getErrorMessage());
+        CHECK(result.failed());
+        CHECK(result.getErrorMessage().contains(c.expected));
+        CHECK(parameterValue(p, ids::gain) == Approx(-3.0f));
+    }
+    CHECK(p.loadUserPreset(file.getFile().getSiblingFile("missing.jawaripreset"))
+              .getErrorMessage()
+              .contains("no such file"));
+    // A good state behind a byte order mark, as a text editor may save it.
+    const std::string marked = "\xEF\xBB\xBF" + xml.toStdString();
+    REQUIRE(file.getFile().replaceWithData(marked.data(), marked.size()));
+    CHECK(p.loadUserPreset(file.getFile()).wasOk());
+    CHECK(parameterValue(p, ids::gain) == Approx(-6.0f));
 }
 
 TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite and bounded", "[plugin]")
