@@ -106,10 +106,22 @@ void JawariAudioProcessor::prepareToPlay(double sampleRate, int)
     hostRate_.store(sampleRate);
     const auto s = reader_.structure(sampleRate);
     installNow(buildVoicePack(s));
+    // Playback starts at the parameters' values: a first note does not hear the gain or the
+    // obstacle gliding from their defaults.
+    instrument_.setControls(controls());
+    instrument_.settleControls();
     builder_->setBuilt(s);
     setLatencySamples(latency_.load());
     load_.reset(sampleRate, 512);
     builder_->startThread();
+}
+
+InstrumentControls JawariAudioProcessor::controls() const
+{
+    InstrumentControls c = reader_.controls(curve_);
+    for (size_t n = 0; n < c.keyPitches.size(); ++n)
+        c.keyPitches[n] = keyPitches_[n].load(std::memory_order_relaxed);
+    return c;
 }
 
 void JawariAudioProcessor::releaseResources()
@@ -136,10 +148,7 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         exchange_.retire();
         packsInstalled_.fetch_add(1, std::memory_order_relaxed);
     }
-    InstrumentControls controls = reader_.controls(curve_);
-    for (size_t n = 0; n < controls.keyPitches.size(); ++n)
-        controls.keyPitches[n] = keyPitches_[n].load(std::memory_order_relaxed);
-    instrument_.setControls(controls);
+    instrument_.setControls(controls());
 
     float* left = buffer.getWritePointer(0);
     float* right = buffer.getNumChannels() > 1 ? buffer.getWritePointer(1) : nullptr;

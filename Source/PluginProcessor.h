@@ -92,6 +92,7 @@ private:
     void handleAsyncUpdate() override;
     void installNow(std::unique_ptr<VoicePack> pack);
     void handleMidi(const juce::MidiMessage& m, const MidiSettings& settings);  // RT
+    InstrumentControls controls() const;  // the parameters and the keyboard's pitches, as the engine takes them. RT
 
     juce::AudioProcessorValueTreeState parameters_;
     ParameterReader reader_;

@@ -584,6 +584,19 @@ TEST_CASE("A state file that is not UTF-8, not XML or not a Jawari state is refu
     CHECK(parameterValue(p, ids::gain) == Approx(-6.0f));
 }
 
+TEST_CASE("After prepareToPlay a first note plays at the parameters' gain, not gliding from the default", "[plugin]")
+{
+    // The gain and the obstacle glide over 20 ms when automated; where playback starts they begin
+    // at their values, so a note on the first sample with the gain at -6 dB is 6 dB down throughout.
+    JawariAudioProcessor unity, quieter;
+    setParameter(quieter, ids::gain, -6.0f);
+    unity.prepareToPlay(48000.0, 512);
+    quieter.prepareToPlay(48000.0, 512);
+    const auto a = renderNote(unity, 48000.0, 512, 0.02, 57);
+    const auto b = renderNote(quieter, 48000.0, 512, 0.02, 57);
+    CHECK(peakOf(b) / peakOf(a) == Approx(std::pow(10.0, -6.0 / 20.0)).epsilon(1e-4));
+}
+
 TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite and bounded", "[plugin]")
 {
     JawariAudioProcessor p;

@@ -496,7 +496,7 @@ void Instrument::render(float* left, float* right, int numSamples)
     {
         const int count = std::min(kChunk, numSamples - offset);
         const double gainStart = gain_;
-        smoothControls(count, rate);
+        smoothControls(1.0 - std::exp(-count / (0.020 * rate)));
         retuneSounding(count, rate);
         scheduleDrone(count);
         for (int i = 0; i < kSlots; ++i)
@@ -511,13 +511,18 @@ void Instrument::render(float* left, float* right, int numSamples)
     limitOutput(left, right, numSamples);
 }
 
+void Instrument::settleControls()
+{
+    smoothControls(1.0);
+}
+
 // The controls' targets reached over a chunk: the obstacle (its height, stiffness geometrically,
-// exponent) and the gain through a 20 ms one-pole, the damping at once (then every string is
-// retuned); a non-finite target keeps the current or default value.
-void Instrument::smoothControls(int count, double rate)
+// exponent) and the gain through a 20 ms one-pole (k20 its step over the chunk; 1 reaches them),
+// the damping at once (then every string is retuned); a non-finite target keeps the current or
+// default value.
+void Instrument::smoothControls(double k20)
 {
     static constexpr InstrumentControls defaults{};
-    const double k20 = 1.0 - std::exp(-count / (0.020 * rate));
     auto finiteOr = [](double v, double fallback) { return std::isfinite(v) ? v : fallback; };
     const double heightTarget = finiteOr(target_.obstacleHeight, current_.obstacleHeight);
     const double logK = std::log(std::max(current_.stiffness, 1.0));
@@ -526,7 +531,7 @@ void Instrument::smoothControls(int count, double rate)
     if (heightTarget != current_.obstacleHeight || logKTarget != logK || exponentTarget != current_.exponent)
     {
         auto approach = [&](double now, double goal, double tolerance) {
-            return std::abs(goal - now) <= tolerance ? goal : now + k20 * (goal - now);
+            return std::abs(goal - now) <= tolerance || k20 >= 1.0 ? goal : now + k20 * (goal - now);
         };
         current_.obstacleHeight = approach(current_.obstacleHeight, heightTarget, 1e-9);
         current_.stiffness = std::exp(approach(logK, logKTarget, 1e-6));
@@ -561,7 +566,7 @@ void Instrument::smoothControls(int count, double rate)
     current_.humanise = finiteOr(target_.humanise, 0.0);
     current_.droneStrength = std::clamp(finiteOr(target_.droneStrength, defaults.droneStrength), 0.0, 1.0);
     const double gainTarget = std::pow(10.0, current_.gainDb / 20.0);
-    gain_ = std::abs(gainTarget - gain_) < 1e-6 ? gainTarget : gain_ + k20 * (gainTarget - gain_);
+    gain_ = std::abs(gainTarget - gain_) < 1e-6 || k20 >= 1.0 ? gainTarget : gain_ + k20 * (gainTarget - gain_);
 }
 
 // The bend through a 5 ms one-pole; a sounding string is retuned when its damping changed, or

@@ -178,6 +178,9 @@ public:
     void pitchBend(double amount);                                                // RT, -1..1 of the bend range
     void allNotesOff();                                                           // RT: every MIDI string released
     void setControls(const InstrumentControls& controls) { target_ = controls; }  // RT
+    // RT: the smoothed controls (obstacle, gain) jump to their targets: where playback starts
+    // there is nothing to glide from.
+    void settleControls();
 
     // RT: numSamples of stereo at the host rate, replacing what is in left/right.
     void render(float* left, float* right, int numSamples);
@@ -224,7 +227,7 @@ private:
     void dronePluck(int string);
     void scheduleDrone(int samples);
     void publishSnapshot();
-    void smoothControls(int count, double rate);
+    void smoothControls(double k20);
     void retuneSounding(int count, double rate);
     void renderString(int slot, float* left, float* right, int count, double gainStart);
     void startPendingNote(int slot);
