@@ -1,20 +1,29 @@
-// jawari-render: renders a jawari-scene/1 file to a WAV (docs/scenes.md).
+// jawari-render: renders a jawari-scene/1 file, or a MIDI file through the plugin, to a WAV
+// (docs/scenes.md).
 //
 //   jawari-render SCENE.json -o OUT.wav [--method reference] [--modes M] [--rate HZ]
 //                 [--duration S] [--output-rate HZ] [--raw] [--energy FILE.csv] [--quiet]
+//   jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
+//                 [--output-rate HZ] [--quiet]
 //
-// Exit status: 0 done, 2 bad scene or arguments (the message names the field), 1 anything else.
+// Exit status: 0 done, 2 bad input or arguments (the message names the problem), 1 anything else.
 // Files are written to a temporary beside the target and moved into place only when complete.
 
+#include "MidiRender.h"
+#include "MidiScore.h"
+#include "PluginProcessor.h"
+#include "Presets.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
 
 #include <juce_audio_formats/juce_audio_formats.h>
 #include <juce_core/juce_core.h>
+#include <juce_events/juce_events.h>
 
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,9 +34,12 @@
 namespace
 {
 
-constexpr const char* usage = R"(jawari-render: render a jawari-scene/1 file to a WAV file.
+constexpr const char* usage =
+    R"(jawari-render: render a jawari-scene/1 file, or a MIDI file played by the plugin, to a WAV file.
 
 usage: jawari-render SCENE.json -o OUT.wav [options]
+       jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
+                     [--output-rate HZ] [--quiet]
 
   -o, --output FILE       the WAV file to write (required)
   --method NAME           reference (the paper's configuration), or the plugin's voice (truncated
@@ -44,8 +56,20 @@ usage: jawari-render SCENE.json -o OUT.wav [options]
   --quiet                 no progress bar and no summary
   -h, --help              this text
 
-Options override the scene's `simulation` fields. A bad scene or option exits with status 2 and a
-message naming the field; nothing is written then.
+MIDI (instead of a scene file):
+  --midi FILE.mid         a Standard MIDI File (type 0 or 1, its tempo map honoured) played through
+                          the plugin's AudioProcessor; writes stereo 24-bit at the plugin's level,
+                          its latency removed (an event at t s sounds at sample t x rate). Without
+                          --duration the file ends once the output has stayed below -100 dBFS for
+                          0.5 s after the last event, at most 60 s after it
+  --preset NAME           a factory preset, by its name or the part before the parenthesis
+                          ("Default", "Paper centre obstacle", "Tanpura drone", "Sitar",
+                          "Bass fret buzz"); the plugin's defaults (Default) without it
+  --state FILE            a state saved by the plugin as XML (a user preset, .jawaripreset)
+  --output-rate HZ        the rate the plugin runs at: 22050 to 192000 Hz (default 48000)
+
+Options override the scene's `simulation` fields. A bad scene, MIDI file, preset, state or option
+exits with status 2 and a message naming the problem; nothing is written then.
 )";
 
 struct UsageError : std::runtime_error
@@ -90,6 +114,47 @@ long long parseWhole(const juce::String& option, const juce::String& text)
     return static_cast<long long>(v);
 }
 
+// A WAV file written to a temporary beside its target and moved into place by finish(); one
+// destroyed unfinished (a failed render) leaves the target as it was.
+class WavOutput
+{
+public:
+    WavOutput(const juce::File& target, double rate, int channels, int bits)
+        : target_(target)
+        , temp_(target)
+        , channels_(channels)
+    {
+        auto stream = std::make_unique<juce::FileOutputStream>(temp_.getFile());
+        if (!stream->openedOk())
+            throw std::runtime_error("cannot write '" + temp_.getFile().getFullPathName().toStdString() + "'");
+        juce::WavAudioFormat wav;
+        writer_.reset(wav.createWriterFor(stream.get(), rate, static_cast<unsigned>(channels), bits, {}, 0));
+        if (writer_ == nullptr)
+            throw std::runtime_error("cannot create a WAV writer at " + std::to_string(rate) + " Hz");
+        stream.release();  // the writer owns it now
+    }
+
+    void write(const float* const* channels, int count)
+    {
+        if (count > 0 && !writer_->writeFromFloatArrays(channels, channels_, count))
+            throw std::runtime_error("writing the WAV data failed");
+    }
+
+    void finish()
+    {
+        writer_.reset();  // completes the header and closes the file
+        if (!temp_.overwriteTargetFileWithTemporary())
+            throw std::runtime_error("cannot move the finished WAV to '" + target_.getFullPathName().toStdString()
+                                     + "'");
+    }
+
+private:
+    juce::File target_;
+    juce::TemporaryFile temp_;
+    int channels_;
+    std::unique_ptr<juce::AudioFormatWriter> writer_;  // destroyed before temp_
+};
+
 void writeWav(const juce::File& target, const std::vector<double>& samples, int rate, bool raw, double& peakOut)
 {
     double peak = 0.0;
@@ -97,26 +162,13 @@ void writeWav(const juce::File& target, const std::vector<double>& samples, int 
         peak = std::max(peak, std::abs(v));
     peakOut = peak;
     const double gain = raw ? 1.0 : (peak > 0.0 ? std::pow(10.0, -1.0 / 20.0) / peak : 0.0);
-    juce::AudioBuffer<float> buffer(1, static_cast<int>(samples.size()));
+    std::vector<float> mono(samples.size());
     for (size_t i = 0; i < samples.size(); ++i)
-        buffer.setSample(0, static_cast<int>(i), static_cast<float>(samples[i] * gain));
-
-    juce::TemporaryFile temp(target);
-    {
-        auto stream = std::make_unique<juce::FileOutputStream>(temp.getFile());
-        if (!stream->openedOk())
-            throw std::runtime_error("cannot write '" + temp.getFile().getFullPathName().toStdString() + "'");
-        juce::WavAudioFormat wav;
-        std::unique_ptr<juce::AudioFormatWriter> writer(
-            wav.createWriterFor(stream.get(), rate, 1, raw ? 32 : 24, {}, 0));
-        if (writer == nullptr)
-            throw std::runtime_error("cannot create a WAV writer at " + std::to_string(rate) + " Hz");
-        stream.release();  // the writer owns it now
-        if (!writer->writeFromAudioSampleBuffer(buffer, 0, buffer.getNumSamples()))
-            throw std::runtime_error("writing the WAV data failed");
-    }
-    if (!temp.overwriteTargetFileWithTemporary())
-        throw std::runtime_error("cannot move the finished WAV to '" + target.getFullPathName().toStdString() + "'");
+        mono[i] = static_cast<float>(samples[i] * gain);
+    WavOutput out(target, rate, 1, raw ? 32 : 24);
+    const float* channels[] = {mono.data()};
+    out.write(channels, static_cast<int>(mono.size()));
+    out.finish();
 }
 
 void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySample>& energy)
@@ -149,8 +201,33 @@ struct Request
 {
     juce::String scenePath;
     std::optional<juce::String> output, method, modes, rate, duration, outputRate, energyPath;
+    std::optional<juce::String> midiPath, preset, statePath;
     bool raw = false, quiet = false;
 };
+
+// Options that belong to one kind of render: a scene file's, or --midi's.
+void checkOptionsFit(const Request& q, int positionals)
+{
+    if (!q.midiPath)
+    {
+        if (q.preset || q.statePath)
+            throw UsageError(std::string(q.preset ? "--preset" : "--state") + " applies to --midi renders only");
+        return;
+    }
+    if (positionals > 0)
+        throw UsageError("give a scene file or --midi, not both ('" + q.scenePath.toStdString() + "' and --midi "
+                         + q.midiPath->toStdString() + ")");
+    const std::pair<bool, const char*> sceneOnly[] = {{q.method.has_value(), "--method"},
+                                                      {q.modes.has_value(), "--modes"},
+                                                      {q.rate.has_value(), "--rate"},
+                                                      {q.energyPath.has_value(), "--energy"},
+                                                      {q.raw, "--raw"}};
+    for (const auto& [given, name] : sceneOnly)
+        if (given)
+            throw UsageError(std::string(name) + " applies to scene files, not to --midi");
+    if (q.preset && q.statePath)
+        throw UsageError("give --preset or --state, not both");
+}
 
 Request parseArguments(int argc, char* argv[])
 {
@@ -163,6 +240,9 @@ Request parseArguments(int argc, char* argv[])
     q.duration = optionValue(args, "--duration");
     q.outputRate = optionValue(args, "--output-rate");
     q.energyPath = optionValue(args, "--energy");
+    q.midiPath = optionValue(args, "--midi");
+    q.preset = optionValue(args, "--preset");
+    q.statePath = optionValue(args, "--state");
     q.raw = args.removeOptionIfFound("--raw");
     q.quiet = args.removeOptionIfFound("--quiet");
     juce::StringArray positional;
@@ -172,11 +252,13 @@ Request parseArguments(int argc, char* argv[])
             throw UsageError("unknown option '" + a.text.toStdString() + "' (see --help)");
         positional.add(a.text);
     }
-    if (positional.size() != 1)
+    if (!positional.isEmpty())
+        q.scenePath = positional[0];
+    checkOptionsFit(q, positional.size());
+    if (!q.midiPath && positional.size() != 1)
         throw UsageError(positional.isEmpty() ? "no scene file given (see --help)" : "give exactly one scene file");
     if (!q.output)
         throw UsageError("no output file: give -o OUT.wav");
-    q.scenePath = positional[0];
     return q;
 }
 
@@ -274,6 +356,129 @@ void printSummary(const jawari::Scene& scene, const jawari::RenderResult& result
         std::printf("energy log: %s (%zu rows)\n", energyFile->getFullPathName().toRawUTF8(), result.energy.size());
 }
 
+// --preset: a factory preset by its name or the part before its parenthesis, in any case.
+int factoryPresetNamed(const juce::String& wanted)
+{
+    const auto& presets = jawari::plugin::factoryPresets();
+    juce::StringArray names;
+    for (size_t i = 0; i < presets.size(); ++i)
+    {
+        const juce::String name(presets[i].name);
+        if (name.equalsIgnoreCase(wanted.trim())
+            || name.upToFirstOccurrenceOf(" (", false, false).equalsIgnoreCase(wanted.trim()))
+            return static_cast<int>(i);
+        names.add("'" + name + "'");
+    }
+    throw UsageError("--preset: no factory preset '" + wanted.toStdString()
+                     + "' (the presets: " + names.joinIntoString(", ").toStdString() + ")");
+}
+
+// The sound the score is played with: a factory preset, a saved state (read as the plugin reads
+// a user preset, with the same checks), or the plugin's defaults. Returns what it is.
+juce::String chooseSound(jawari::plugin::JawariAudioProcessor& processor, const Request& q)
+{
+    if (q.preset)
+    {
+        const int index = factoryPresetNamed(*q.preset);
+        processor.setCurrentProgram(index);
+        return "preset '" + processor.getProgramName(index) + "'";
+    }
+    if (q.statePath)
+    {
+        const auto file = juce::File::getCurrentWorkingDirectory().getChildFile(*q.statePath);
+        if (const auto loaded = processor.loadUserPreset(file); loaded.failed())
+            throw UsageError("--state " + loaded.getErrorMessage().toStdString());
+        return "state '" + file.getFileName() + "'";
+    }
+    return "the plugin's defaults";
+}
+
+jawari::midi::MidiRenderSettings midiSettings(const Request& q)
+{
+    jawari::midi::MidiRenderSettings s;
+    if (q.outputRate)
+    {
+        const auto r = parseWhole("--output-rate", *q.outputRate);
+        if (r < 22050 || r > 192000)
+            throw UsageError("--output-rate: the plugin runs at 22050 to 192000 Hz");
+        s.rateHz = static_cast<double>(r);
+    }
+    if (q.duration)
+    {
+        const double seconds = parseNumber("--duration", *q.duration);
+        if (!(seconds > 0.0 && seconds <= jawari::midi::kMaxScoreSeconds) || std::llround(seconds * s.rateHz) < 1)
+            throw UsageError("--duration: must be at least one sample and at most "
+                             + std::to_string(int(jawari::midi::kMaxScoreSeconds)) + " s");
+        s.lengthSamples = std::llround(seconds * s.rateHz);
+    }
+    return s;
+}
+
+jawari::midi::MidiScore scoreFor(const Request& q)
+{
+    const auto file = juce::File::getCurrentWorkingDirectory().getChildFile(*q.midiPath);
+    try
+    {
+        return jawari::midi::loadMidiScore(file);
+    }
+    catch (const jawari::midi::MidiFileError& e)
+    {
+        throw UsageError("--midi " + file.getFullPathName().toStdString() + ": " + e.what());
+    }
+}
+
+void printMidiSummary(const jawari::midi::MidiScore& score, const juce::String& sound,
+                      const jawari::midi::MidiRenderStats& st, const jawari::midi::MidiRenderSettings& s,
+                      const juce::File& wavFile, double wallSeconds)
+{
+    const double seconds = static_cast<double>(st.samples) / s.rateHz;
+    std::printf("wrote %s: %lld samples (%.3f s) at %.0f Hz, stereo 24-bit, peak %.1f dBFS\n",
+                wavFile.getFullPathName().toRawUTF8(), st.samples, seconds, s.rateHz,
+                20.0 * std::log10(std::max(st.peak, 1e-12)));
+    const int events = score.events.getNumEvents();
+    std::printf("MIDI type %d, %d track%s, %d event%s, the last at %.3f s; %s; latency %d samples removed\n",
+                score.fileType, score.tracks, score.tracks == 1 ? "" : "s", events, events == 1 ? "" : "s",
+                score.lastEventSeconds, sound.toRawUTF8(), st.latencySamples);
+    if (!s.lengthSamples)
+        std::printf("ended %.3f s after the last event: %s\n", seconds - score.lastEventSeconds,
+                    st.tailCapped ? "the cap (the output never fell silent)" : "below -100 dBFS for 0.5 s");
+    std::printf("rendered in %.2f s (%.3gx real time)\n", wallSeconds, seconds / std::max(wallSeconds, 1e-9));
+}
+
+// --midi: the score played through the plugin's AudioProcessor, written as it renders.
+int runMidi(const Request& q)
+{
+    auto settings = midiSettings(q);
+    const auto score = scoreFor(q);
+    const juce::File wavFile = outputFile(*q.output, "-o");
+    const juce::ScopedJuceInitialiser_GUI juceRuntime;  // the processor's parameters run a timer
+    jawari::plugin::JawariAudioProcessor processor;
+    const juce::String sound = chooseSound(processor, q);
+    const bool bar = !q.quiet && isatty(STDERR_FILENO);
+    if (bar)
+        settings.progress = [](double fraction) { showProgress(fraction); };
+
+    WavOutput out(wavFile, settings.rateHz, 2, 24);
+    const auto start = std::chrono::steady_clock::now();
+    const auto stats =
+        jawari::midi::renderScore(processor, score, settings, [&out](const float* left, const float* right, int count) {
+            const float* channels[] = {left, right};
+            out.write(channels, count);
+        });
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (bar)
+        std::fprintf(stderr, "\n");
+    out.finish();
+    if (!q.quiet && stats.tailCapped)
+        std::fprintf(stderr,
+                     "note: the output was still above -100 dBFS %.0f s after the last event (a drone or a "
+                     "held note): it stops there; --duration sets the length\n",
+                     settings.tailCapSeconds);
+    if (!q.quiet)
+        printMidiSummary(score, sound, stats, settings, wavFile, wall);
+    return 0;
+}
+
 int run(int argc, char* argv[])
 {
     if (juce::ArgumentList(argc, argv).containsOption("--help|-h"))
@@ -282,6 +487,8 @@ int run(int argc, char* argv[])
         return 0;
     }
     const Request q = parseArguments(argc, argv);
+    if (q.midiPath)
+        return runMidi(q);
     const jawari::Scene scene = sceneFor(q);
     const juce::File wavFile = outputFile(*q.output, "-o");
     std::optional<juce::File> energyFile;

@@ -1,54 +1,20 @@
 // jawari-render end to end: good scenes write complete files, bad ones exit with status 2, name the
 // field and leave nothing behind.
 
+#include "RendererCliSupport.h"
 #include "TestSupport.h"
 
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
-
-namespace
-{
-struct Outcome
-{
-    int status = -1;
-    std::string output;
-};
-
-Outcome render(const std::string& arguments)
-{
-    const std::string command = std::string(JAWARI_RENDER_PATH) + " " + arguments + " 2>&1";
-    Outcome o;
-    FILE* pipe = popen(command.c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    char buffer[512];
-    while (std::fgets(buffer, sizeof buffer, pipe) != nullptr)
-        o.output += buffer;
-    const int raw = pclose(pipe);
-    o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return o;
-}
-
-fs::path scratch()
-{
-    auto dir = fs::temp_directory_path() / ("jawari-cli-" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
-
-std::string write(const fs::path& path, const std::string& text)
-{
-    std::ofstream(path) << text;
-    return path.string();
-}
-}  // namespace
+using jawari::test::render;
+using jawari::test::scratch;
+using jawari::test::write;
 
 TEST_CASE("jawari-render writes a WAV and an energy log for a good scene")
 {

@@ -1,0 +1,352 @@
+// jawari-render --midi end to end: MIDI files written here with juce::MidiFile, rendered by the
+// binary, read back with JUCE's WAV reader and measured (the pitch of a held note, an onset after a
+// tempo change, the length, the silence-terminated tail, the samples of the AudioProcessor played
+// in-process); bad files, presets, states and option mixes exit with status 2 and write nothing.
+
+#include "PluginProcessor.h"
+#include "RendererCliSupport.h"
+#include "TestSupport.h"
+#include "offline/Analysis.h"
+
+#include <catch2/catch.hpp>
+
+#include <juce_audio_formats/juce_audio_formats.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fs = std::filesystem;
+using jawari::test::render;
+using jawari::test::scratch;
+using jawari::test::write;
+
+namespace
+{
+constexpr int kTicksPerQuarter = 480;  // 120 bpm until a tempo event says otherwise: 960 ticks a second
+
+// A track of timed messages (timestamps in ticks).
+juce::MidiMessageSequence track(std::initializer_list<std::pair<double, juce::MidiMessage>> events)
+{
+    juce::MidiMessageSequence sequence;
+    for (auto [tick, message] : events)
+    {
+        message.setTimeStamp(tick);
+        sequence.addEvent(message);
+    }
+    return sequence;
+}
+
+std::string writeMidi(const fs::path& path, const std::vector<juce::MidiMessageSequence>& tracks, int type)
+{
+    juce::MidiFile file;
+    file.setTicksPerQuarterNote(kTicksPerQuarter);
+    for (const auto& t : tracks)
+        file.addTrack(t);
+    fs::remove(path);
+    juce::FileOutputStream out{juce::File(path.string())};
+    REQUIRE(out.openedOk());
+    REQUIRE(file.writeTo(out, type));
+    return path.string();
+}
+
+// A3 (220 Hz) at velocity 100 from 0 to 1 s, in a type 0 file.
+std::string heldA3(const fs::path& path)
+{
+    return writeMidi(
+        path,
+        {track({{0, juce::MidiMessage::noteOn(1, 57, juce::uint8(100))}, {960, juce::MidiMessage::noteOff(1, 57)}})},
+        0);
+}
+
+struct Wav
+{
+    int channels = 0, bits = 0;
+    double rate = 0.0;
+    std::vector<double> left, right;
+};
+
+Wav readWav(const fs::path& path)
+{
+    juce::WavAudioFormat format;
+    std::unique_ptr<juce::AudioFormatReader> reader(
+        format.createReaderFor(new juce::FileInputStream(juce::File(path.string())), true));
+    REQUIRE(reader != nullptr);
+    Wav w;
+    w.channels = int(reader->numChannels);
+    w.bits = int(reader->bitsPerSample);
+    w.rate = reader->sampleRate;
+    juce::AudioBuffer<float> buffer(w.channels, int(reader->lengthInSamples));
+    REQUIRE(reader->read(&buffer, 0, buffer.getNumSamples(), 0, true, true));
+    for (int i = 0; i < buffer.getNumSamples(); ++i)
+    {
+        w.left.push_back(buffer.getSample(0, i));
+        w.right.push_back(buffer.getSample(w.channels - 1, i));
+    }
+    return w;
+}
+
+double peakOf(const Wav& w)
+{
+    double m = 0.0;
+    for (size_t i = 0; i < w.left.size(); ++i)
+        m = std::max({m, std::abs(w.left[i]), std::abs(w.right[i])});
+    return m;
+}
+
+// The first sample whose level reaches `level` (the size when none does).
+size_t onset(const std::vector<double>& y, double level)
+{
+    const auto it = std::find_if(y.begin(), y.end(), [level](double v) { return std::abs(v) >= level; });
+    return size_t(it - y.begin());
+}
+struct Rendered
+{
+    std::string output;
+    Wav wav;
+};
+
+// The held A3 rendered with `options` into `name`.wav.
+Rendered renderHeldA3(const std::string& name, const std::string& options)
+{
+    const auto dir = scratch();
+    const auto wav = dir / (name + ".wav");
+    const auto o = render("--midi " + heldA3(dir / (name + ".mid")) + " " + options + " -o " + wav.string());
+    INFO(o.output);
+    REQUIRE(o.status == 0);
+    return {o.output, readWav(wav)};
+}
+}  // namespace
+
+TEST_CASE("jawari-render --midi plays a held A3 in tune with the Default preset, as stereo 24-bit")
+{
+    const auto [output, w] = renderHeldA3("a3", "--preset Default");
+    CHECK_THAT(output, Catch::Matchers::Contains("preset 'Default (tanpura bridge, no drone)'"));
+    CHECK(w.channels == 2);
+    CHECK(w.bits == 24);
+    CHECK(w.rate == 48000.0);
+    const double f0 = jawari::peakFrequency(w.left, w.rate, 200.0, 240.0, 4800, 38400);  // 0.1 .. 0.9 s
+    INFO("f0 " << f0 << " Hz, peak " << peakOf(w));
+    CHECK(std::abs(f0 / 220.0 - 1.0) < 0.005);
+    CHECK(peakOf(w) > 0.05);
+}
+
+TEST_CASE("jawari-render --midi: a note after a tempo change in another track starts at its time (type 1)")
+{
+    // The conductor track: 120 bpm, then 60 bpm from tick 960 (1.0 s). The note at tick 1440 is a
+    // beat later, at 2.0 s (1.5 s if the change were ignored); its note-off a beat after that.
+    const auto dir = scratch();
+    const auto wav = dir / "tempo.wav";
+    const auto conductor =
+        track({{0, juce::MidiMessage::tempoMetaEvent(500000)}, {960, juce::MidiMessage::tempoMetaEvent(1000000)}});
+    const auto notes =
+        track({{1440, juce::MidiMessage::noteOn(2, 57, juce::uint8(100))}, {1920, juce::MidiMessage::noteOff(2, 57)}});
+    const auto o = render("--midi " + writeMidi(dir / "tempo.mid", {conductor, notes}, 1) + " -o " + wav.string());
+    INFO(o.output);
+    REQUIRE(o.status == 0);
+    CHECK_THAT(o.output, Catch::Matchers::Contains("MIDI type 1, 2 tracks, 2 events, the last at 3.000 s"));
+    const auto w = readWav(wav);
+    const size_t start = onset(w.left, 1e-4);
+    INFO("onset at sample " << start << " (" << double(start) / w.rate << " s)");
+    CHECK(std::abs(double(start) - 96000.0) <= 96.0);  // within 2 ms of 2.0 s
+}
+
+TEST_CASE("jawari-render --midi --duration writes exactly that many stereo samples at --output-rate")
+{
+    const auto [output, w] = renderHeldA3("short", "--duration 0.75 --output-rate 44100 --quiet");
+    CHECK(output.empty());
+    CHECK(w.channels == 2);
+    CHECK(w.rate == 44100.0);
+    CHECK(w.left.size() == 33075);
+    CHECK(std::abs(jawari::peakFrequency(w.left, w.rate, 200.0, 240.0, 4410, 22050) / 220.0 - 1.0) < 0.005);
+}
+
+TEST_CASE("jawari-render --midi ends the file after 0.5 s below -100 dBFS past the last event, or at the cap")
+{
+    const auto w = renderHeldA3("tail", "").wav;
+    const size_t n = w.left.size(), hold = 24000;  // 0.5 s
+    REQUIRE(n > 48000 + hold);
+    double lastHalfSecond = 0.0;
+    for (size_t i = n - hold; i < n; ++i)
+        lastHalfSecond = std::max({lastHalfSecond, std::abs(w.left[i]), std::abs(w.right[i])});
+    const double justBefore = std::max(std::abs(w.left[n - hold - 1]), std::abs(w.right[n - hold - 1]));
+    INFO("length " << double(n) / w.rate << " s; last 0.5 s peak " << lastHalfSecond << ", the sample before "
+                   << justBefore);
+    const double step = 1.0 / 8388608.0;  // the renderer compares before the 24-bit rounding
+    CHECK(lastHalfSecond < 1e-5 + step);
+    CHECK(justBefore >= 1e-5 - step);
+    // Released at 1 s (60 dB in the 0.4 s release), silent well within two seconds of it.
+    CHECK(double(n) / w.rate < 3.0);
+
+    // The drone never falls silent: the render stops 60 s after the last event and says so.
+    const auto dir = scratch();
+    const auto wav = dir / "drone-cap.wav";
+    const auto cc = writeMidi(dir / "cc.mid", {track({{0, juce::MidiMessage::controllerEvent(1, 7, 100)}})}, 0);
+    const auto drone = render("--midi " + cc + " --preset 'Tanpura drone' -o " + wav.string());
+    INFO(drone.output);
+    REQUIRE(drone.status == 0);
+    CHECK_THAT(drone.output, Catch::Matchers::Contains("note: the output was still above -100 dBFS 60 s"));
+    const auto d = readWav(wav);
+    CHECK(d.left.size() == 60 * 48000);
+    CHECK(peakOf(d) > 0.05);
+}
+
+TEST_CASE("jawari-render --midi writes the samples the AudioProcessor gives in-process for the same events")
+{
+    // Bend, sustain over a note-off, a second note, the pedal up and all-notes-off, each at its
+    // sample; in-process the events go straight into 512-sample blocks (the renderer's block size).
+    const std::vector<std::pair<double, juce::MidiMessage>> script = {
+        {0.0, juce::MidiMessage::noteOn(1, 57, juce::uint8(100))},
+        {0.25, juce::MidiMessage::pitchWheel(1, 12000)},
+        {0.3, juce::MidiMessage::controllerEvent(1, 64, 127)},
+        {0.4, juce::MidiMessage::noteOff(1, 57)},
+        {0.5, juce::MidiMessage::noteOn(1, 64, juce::uint8(90))},
+        {0.7, juce::MidiMessage::controllerEvent(1, 64, 0)},
+        {0.9, juce::MidiMessage::allNotesOff(1)},
+    };
+    juce::MidiMessageSequence events;
+    for (auto [seconds, message] : script)
+    {
+        message.setTimeStamp(seconds * 960.0);
+        events.addEvent(message);
+    }
+    const auto dir = scratch();
+    const auto wav = dir / "script.wav";
+    const auto o =
+        render("--midi " + writeMidi(dir / "script.mid", {events}, 0) + " --duration 1.2 -o " + wav.string());
+    INFO(o.output);
+    REQUIRE(o.status == 0);
+    const auto w = readWav(wav);
+
+    jawari::plugin::JawariAudioProcessor p;
+    const double rate = 48000.0;
+    const int block = 512;
+    p.prepareToPlay(rate, block);
+    const int latency = p.getLatencySamples();
+    const auto total = size_t(std::lround(1.2 * rate)) + size_t(latency);
+    std::vector<double> left, right;
+    juce::AudioBuffer<float> buffer(2, block);
+    for (long start = 0; left.size() < total; start += block)
+    {
+        juce::MidiBuffer midi;
+        for (const auto& [seconds, message] : script)
+            if (const long at = std::lround(seconds * rate); at >= start && at < start + block)
+                midi.addEvent(message, int(at - start));
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        for (int i = 0; i < block; ++i)
+        {
+            left.push_back(buffer.getSample(0, i));
+            right.push_back(buffer.getSample(1, i));
+        }
+    }
+    REQUIRE(w.left.size() == total - size_t(latency));
+    double worst = 0.0, peak = 0.0;
+    for (size_t i = 0; i < w.left.size(); ++i)
+    {
+        worst = std::max({worst, std::abs(w.left[i] - left[i + size_t(latency)]),
+                          std::abs(w.right[i] - right[i + size_t(latency)])});
+        peak = std::max(peak, std::abs(left[i + size_t(latency)]));
+    }
+    INFO("latency " << latency << ", peak " << peak << ", largest difference " << worst);
+    CHECK(peak > 0.05);
+    CHECK(worst <= 1.0 / 8388608.0);  // one step of 24 bits
+}
+
+TEST_CASE("jawari-render --midi plays a state file the plugin saved, and factory presets by their short names")
+{
+    const auto dir = scratch();
+    jawari::plugin::JawariAudioProcessor p;
+    auto* gain = p.parameters().getParameter(jawari::plugin::ids::gain);
+    gain->setValueNotifyingHost(gain->convertTo0to1(-6.0f));
+    const auto state = dir / "quieter.jawaripreset";
+    REQUIRE(p.state().createXml()->writeTo(juce::File(state.string())));
+    const auto plain = renderHeldA3("plain", "--quiet");
+    const auto quieter = renderHeldA3("quieter", "--state " + state.string());
+    CHECK_THAT(quieter.output, Catch::Matchers::Contains("state 'quieter.jawaripreset'"));
+    const double ratio = peakOf(quieter.wav) / peakOf(plain.wav);
+    INFO("peak ratio " << ratio);
+    CHECK(ratio == Approx(std::pow(10.0, -6.0 / 20.0)).epsilon(0.01));
+
+    // A controller and no note: the Tanpura drone preset plays, the defaults stay silent.
+    const auto cc = writeMidi(dir / "cc.mid", {track({{0, juce::MidiMessage::controllerEvent(1, 7, 100)}})}, 0);
+    const auto drone = dir / "drone.wav";
+    REQUIRE(render("--midi " + cc + " --preset 'tanpura DRONE' --duration 2 --quiet -o " + drone.string()).status == 0);
+    CHECK(peakOf(readWav(drone)) > 0.05);
+    REQUIRE(render("--midi " + cc + " --duration 2 --quiet -o " + drone.string()).status == 0);
+    CHECK(peakOf(readWav(drone)) == 0.0);
+}
+
+TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and option mixes with status 2")
+{
+    const auto dir = scratch();
+    const auto wav = dir / "never.wav";
+    const auto good = heldA3(dir / "good.mid");
+    std::string bytes;
+    {
+        std::ifstream in(good, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    std::mt19937 rng(11);
+    std::string noise(2000, '\0');
+    for (auto& c : noise)
+        c = char(rng());
+    auto typeTwo = bytes;
+    typeTwo[9] = 2;
+    const auto tempoOnly =
+        writeMidi(dir / "tempo-only.mid", {track({{0, juce::MidiMessage::tempoMetaEvent(500000)}})}, 0);
+    jawari::plugin::JawariAudioProcessor p;
+    const auto xml = p.state().toXmlString().toStdString();
+
+    struct Case
+    {
+        std::string arguments, expected;
+    };
+    const std::vector<Case> cases = {
+        {"--midi " + (dir / "missing.mid").string(), "missing.mid: no such file"},
+        {"--midi " + write(dir / "noise.mid", noise), "not a Standard MIDI File"},
+        {"--midi " + write(dir / "cut.mid", bytes.substr(0, bytes.size() - 3)), "truncated: track 1 of 1 declares"},
+        {"--midi " + write(dir / "type2.mid", typeTwo), "type 2 (independent sequences) is not supported"},
+        {"--midi " + tempoOnly, "no notes, controllers or other channel events"},
+        {"--midi " + good + " --preset Banjo", "no factory preset 'Banjo' (the presets: 'Default (tanpura bridge"},
+        {"--midi " + good + " --state " + (dir / "missing.xml").string(), "missing.xml: no such file"},
+        {"--midi " + good + " --state " + write(dir / "bad.xml", xml.substr(0, xml.size() / 2)), "bad.xml: not XML"},
+        {"--midi " + good + " --state " + write(dir / "other.xml", "<Other/>"), "root element is <Other>"},
+        {"--midi " + good + " --state " + write(dir / "latin1.xml", "<JawariState a=\"\xe9\"/>"), "not valid UTF-8"},
+        {"--midi " + good + " --preset Default --state " + write(dir / "ok.xml", xml), "--preset or --state, not both"},
+        {"--midi " + good + " " + jawari::test::resource("Scenes/paper-centre.json"),
+         "a scene file or --midi, not both"},
+        {"--midi " + good + " --method realtime", "--method applies to scene files"},
+        {"--midi " + good + " --output-rate 8000", "--output-rate: the plugin runs at 22050 to 192000 Hz"},
+        {"--midi " + good + " --duration 0", "--duration"},
+        {jawari::test::resource("Scenes/paper-centre.json") + " --preset Default", "--preset applies to --midi"},
+    };
+    for (const auto& c : cases)
+    {
+        const auto o = render(c.arguments + " -o " + wav.string());
+        INFO(c.arguments << "\n" << o.output);
+        CHECK(o.status == 2);
+        CHECK_THAT(o.output, Catch::Matchers::Contains(c.expected));
+        CHECK_FALSE(fs::exists(wav));
+    }
+    // Every truncation of a good file is refused, and an existing output stays as it was.
+    write(wav, "previous contents");
+    for (size_t length = 0; length < bytes.size(); ++length)
+    {
+        const auto o = render("--midi " + write(dir / "cut.mid", bytes.substr(0, length)) + " -o " + wav.string());
+        INFO("the first " << length << " of " << bytes.size() << " bytes\n" << o.output);
+        CHECK(o.status == 2);
+        CHECK_THAT(o.output, Catch::Matchers::Contains(length < 4 ? "not a Standard MIDI File" : "truncated"));
+    }
+    std::ifstream kept(wav);
+    std::string text;
+    std::getline(kept, text);
+    CHECK(text == "previous contents");
+}
