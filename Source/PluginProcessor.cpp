@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <string_view>
 
 namespace jawari::plugin
 {
@@ -378,6 +379,20 @@ juce::ValueTree savedParameter(const juce::ValueTree& params, const juce::String
     }
     return {};
 }
+
+// Whether a processing instruction (<?...?>) follows the XML declaration. JUCE 7's XML reader loops
+// for ever on one followed by text inside an element (found by tools/fuzz.sh); a state has none.
+bool hasInnerProcessingInstruction(std::string_view text)
+{
+    size_t from = 0;
+    const auto start = text.find_first_not_of(" \t\r\n");
+    if (start != std::string_view::npos && text.substr(start, 5) == "<?xml")
+    {
+        const auto end = text.find("?>", start);
+        from = end == std::string_view::npos ? text.size() : end + 2;
+    }
+    return text.find("<?", from) != std::string_view::npos;
+}
 }  // namespace
 
 void JawariAudioProcessor::setState(const juce::ValueTree& tree)
@@ -455,6 +470,8 @@ juce::Result JawariAudioProcessor::setStateFromXml(const char* text, size_t leng
         return juce::Result::fail("too large for a state");
     if (!juce::CharPointer_UTF8::isValidString(text, static_cast<int>(length)))
         return juce::Result::fail("not valid UTF-8 text");
+    if (hasInnerProcessingInstruction(std::string_view(text, length)))
+        return juce::Result::fail("not a Jawari state: a processing instruction (<?...?>) after the XML declaration");
     juce::XmlDocument document(juce::String::fromUTF8(text, static_cast<int>(length)));
     const auto xml = document.getDocumentElement();
     if (xml == nullptr)

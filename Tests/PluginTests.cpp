@@ -502,6 +502,12 @@ TEST_CASE("setStateInformation survives empty, truncated, random and older-versi
         p.getStateInformation(keep);
         p.setStateInformation(longExponent.getData(), int(longExponent.getSize()));
         p.setStateInformation(keep.getData(), int(keep.getSize()));
+        // And a processing instruction followed by text inside an element (JUCE's XML reader
+        // looped for ever on it).
+        juce::MemoryBlock instruction;
+        REQUIRE(juce::File(JAWARI_TESTS_DIR "/Fuzz/regressions/state-processing-instruction.bin")
+                    .loadFileAsData(instruction));
+        p.setStateInformation(instruction.getData(), int(instruction.getSize()));
         std::vector<char> cut = {'V', 'C', '2', '!', 6, 0, 0, 0, '<', 'a', '>', char(0xeb), char(0xeb), char(0xeb)};
         p.setStateInformation(cut.data(), int(cut.size()));
         CHECK(parameterValue(p, ids::gain) == Approx(-6.0f));
@@ -563,6 +569,7 @@ TEST_CASE("A state file that is not UTF-8, not XML or not a Jawari state is refu
         {"<JawariState><Parameters>", "not XML"},
         {" \n", "not XML"},
         {"<Other/>", "its root element is <Other>, not <JawariState>"},
+        {"<JawariState><?p?>x</JawariState>", "a processing instruction"},
     };
     juce::TemporaryFile file(".jawaripreset");
     for (const auto& c : cases)
