@@ -97,8 +97,10 @@ void checkChunks(const uint8_t* d, size_t size, int tracks)
                             + " tracks the header declares");
 }
 
-// What JUCE read: a track stops at a malformed event, so each must end with its End of Track; a
-// tempo event holds three bytes; the tempo map is bounded (converting costs events x tempo events).
+// What JUCE read: a track stops at a malformed event, so each must end with its End of Track; an
+// escape event (F7 and its length) is read by JUCE as one byte and its contents as further events,
+// so none may appear; a tempo event holds three bytes; the tempo map is bounded (converting costs
+// events x tempo events).
 void checkTracks(const juce::MidiFile& file)
 {
     int tempoEvents = 0;
@@ -112,6 +114,9 @@ void checkTracks(const juce::MidiFile& file)
                 + " does not end with an End of Track event (an event in it is malformed or cut short)");
         for (const auto* e : track)
         {
+            if (e->message.getRawDataSize() > 0 && e->message.getRawData()[0] == 0xf7)
+                throw MidiFileError("track " + to_string(t + 1)
+                                    + ": an escape event (F7), which juce::MidiFile cannot read");
             const int type = e->message.getMetaEventType();
             if (type == 0x51 && e->message.getMetaEventLength() != 3)
                 throw MidiFileError("track " + to_string(t + 1) + ": a tempo event of "

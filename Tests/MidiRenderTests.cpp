@@ -300,6 +300,8 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         c = char(rng());
     auto typeTwo = bytes;
     typeTwo[9] = 2;
+    const juce::uint8 escape[] = {0xf7, 0x03, 0x90, 0x3c, 0x64};  // raw bytes for the device: not read by JUCE
+    const auto escaped = writeMidi(dir / "escape.mid", {track({{0, juce::MidiMessage(escape, 5)}})}, 0);
     const auto tempoOnly =
         writeMidi(dir / "tempo-only.mid", {track({{0, juce::MidiMessage::tempoMetaEvent(500000)}})}, 0);
     jawari::plugin::JawariAudioProcessor p;
@@ -315,6 +317,7 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         {"--midi " + write(dir / "cut.mid", bytes.substr(0, bytes.size() - 3)), "truncated: track 1 of 1 declares"},
         {"--midi " + write(dir / "type2.mid", typeTwo), "type 2 (independent sequences) is not supported"},
         {"--midi " + tempoOnly, "no notes, controllers or other channel events"},
+        {"--midi " + escaped, "track 1: an escape event (F7)"},
         {"--midi " + good + " --preset Banjo", "no factory preset 'Banjo' (the presets: 'Default (tanpura bridge"},
         {"--midi " + good + " --state " + (dir / "missing.xml").string(), "missing.xml: no such file"},
         {"--midi " + good + " --state " + write(dir / "bad.xml", xml.substr(0, xml.size() / 2)), "bad.xml: not XML"},
