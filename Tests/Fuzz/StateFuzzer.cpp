@@ -1,6 +1,9 @@
-// libFuzzer on the plugin's setStateInformation: whatever the bytes, no crash, no sanitizer report,
-// and every parameter ends finite and inside its range. Built by tools/fuzz.sh (clang, ASan, UBSan).
-// JAWARI_STATE_SEED=path writes a valid state there first (the fuzzer's seed).
+// libFuzzer on the plugin's state reader: each input as setStateInformation's data and as the XML
+// text of a state file (setStateFromXml, what user presets and jawari-render --state read).
+// Whatever the bytes, no crash, no sanitizer report, and every parameter ends finite and inside its
+// range. Built by tools/fuzz.sh (clang, ASan, UBSan).
+// JAWARI_STATE_SEED=path writes a valid state there first, and its XML text beside it (.xml): the
+// fuzzer's seeds.
 
 #include "PluginProcessor.h"
 
@@ -20,23 +23,9 @@ jawari::plugin::JawariAudioProcessor& processor()
     static_cast<void>(juce);
     return *p;
 }
-}  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***)
+void checkParameters(jawari::plugin::JawariAudioProcessor& p)
 {
-    if (const char* seed = std::getenv("JAWARI_STATE_SEED"))
-    {
-        juce::MemoryBlock blob;
-        processor().getStateInformation(blob);
-        juce::File(seed).replaceWithData(blob.getData(), blob.getSize());
-    }
-    return 0;
-}
-
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
-{
-    auto& p = processor();
-    p.setStateInformation(data, static_cast<int>(size));
     for (auto* param : p.getParameters())
     {
         const float v = param->getValue();
@@ -46,5 +35,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     for (int i = 0; i < jawari::kDampingCurvePoints; ++i)
         if (!(p.dampingCurvePoint(i) >= 0.125f && p.dampingCurvePoint(i) <= 8.0f))
             std::abort();
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***)
+{
+    if (const char* seed = std::getenv("JAWARI_STATE_SEED"))
+    {
+        juce::MemoryBlock blob;
+        processor().getStateInformation(blob);
+        const auto file = juce::File::getCurrentWorkingDirectory().getChildFile(seed);
+        file.replaceWithData(blob.getData(), blob.getSize());
+        file.withFileExtension("xml").replaceWithText(processor().state().toXmlString());
+    }
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+    auto& p = processor();
+    p.setStateInformation(data, static_cast<int>(size));
+    checkParameters(p);
+    static_cast<void>(p.setStateFromXml(reinterpret_cast<const char*>(data), size));
+    checkParameters(p);
     return 0;
 }
