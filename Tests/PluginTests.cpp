@@ -251,10 +251,57 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
         auto* param = p.parameters().getParameter(id);
         return param->getText(param->getDefaultValue(), 100);
     };
-    CHECK(defaultText(ids::obstacleStiffness) == "13.00");
+    CHECK(defaultText(ids::obstacleStiffness) == "1.0e13 N/m^2.3");
     CHECK(defaultText(ids::viscoelasticLoss) == "0.0060");
-    CHECK(defaultText(ids::thermoelasticLoss) == "1.38");
-    CHECK(defaultText(ids::obstacleWidth) == "1.00");
+    CHECK(defaultText(ids::thermoelasticLoss) == "1.38e-4");
+    CHECK(defaultText(ids::obstacleWidth) == "1.00 mm");
+}
+
+TEST_CASE("Parameter values read in a player's units and typed text reads back", "[plugin]")
+{
+    JawariAudioProcessor p;
+    auto textOf = [&](const char* id, float value) {
+        auto* param = p.parameters().getParameter(id);
+        return param->getText(param->convertTo0to1(value), 100);
+    };
+    auto valueOf = [&](const char* id, const juce::String& typed) {
+        auto* param = p.parameters().getParameter(id);
+        return param->convertFrom0to1(param->getValueForText(typed));
+    };
+    // Positions in mm from the bridge end of the string chosen: 1.002 m steel, 0.864 m bass E.
+    CHECK(textOf(ids::obstaclePosition, 0.006f) == "6.0 mm");
+    CHECK(textOf(ids::pluckPosition, 0.5f) == "501 mm");
+    CHECK(textOf(ids::pickupPosition, 0.992f / 1.002f) == "992 mm");
+    CHECK(valueOf(ids::obstaclePosition, "12 mm") == Approx(0.012 / 1.002));
+    CHECK(valueOf(ids::pluckPosition, "25 %") == Approx(0.25));
+    setParameter(p, ids::stringType, 2.0f);
+    CHECK(textOf(ids::obstaclePosition, 0.006f) == "5.2 mm");
+    setParameter(p, ids::stringType, 0.0f);
+    // The stiffness as K in the unit its exponent gives it; K or log10 K typed.
+    CHECK(textOf(ids::obstacleStiffness, 12.5f) == "3.2e12 N/m^2.3");
+    setParameter(p, ids::obstacleExponent, 2.0f);
+    CHECK(textOf(ids::obstacleStiffness, 13.0f) == "1.0e13 N/m^3");
+    CHECK(valueOf(ids::obstacleStiffness, "1e11") == Approx(11.0f));
+    CHECK(valueOf(ids::obstacleStiffness, "11.5") == Approx(11.5f));
+    // No "-0.00" for a height that rounds to zero; heights, losses and notes in their units.
+    CHECK(textOf(ids::obstacleHeight, -0.00001f) == "0.00 mm");
+    CHECK(textOf(ids::obstacleHeight, -0.25f) == "-0.25 mm");
+    CHECK(textOf(ids::inharmonicity, 1.78e-5f) == "1.78e-5");
+    CHECK(valueOf(ids::thermoelasticLoss, "2.5e-4") == Approx(2.5f));
+    CHECK(textOf(ids::droneTonic, 49.0f) == "C#3");
+    CHECK(valueOf(ids::droneTonic, "C4") == Approx(60.0f));
+    CHECK(textOf(ids::humanise, 0.2f) == "20 %");
+    CHECK(textOf(ids::decayScale, 2.0f) == "x2.00");
+    CHECK(textOf(ids::gain, -6.0f) == "-6.0 dB");
+    // Any value's text reads back to a value with the same text.
+    for (auto* param : p.getParameters())
+        for (const float normalised : {0.0f, 0.13f, 0.5f, 0.77f, 1.0f})
+        {
+            const auto shown = param->getText(normalised, 100);
+            INFO(param->getName(100) << " at " << normalised << ": " << shown);
+            CHECK(shown.isNotEmpty());
+            CHECK(param->getText(param->getValueForText(shown), 100) == shown);
+        }
 }
 
 TEST_CASE("ParameterReader reads each parameter into its own engine field", "[plugin]")
