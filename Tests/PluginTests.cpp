@@ -43,9 +43,9 @@ float parameterValue(JawariAudioProcessor& p, const char* id)
     return p.parameters().getRawParameterValue(id)->load();
 }
 
-// Renders `seconds` with one note held from the start; returns the left channel.
-std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, double seconds, int note = 55,
-                               juce::uint8 velocity = 100)
+// Renders `seconds` with `first` in the first block (an empty buffer after); returns the left channel.
+std::vector<double> render(JawariAudioProcessor& p, double rate, int block, double seconds,
+                           const juce::MidiBuffer& first = {})
 {
     juce::AudioBuffer<float> buffer(2, block);
     std::vector<double> out;
@@ -54,13 +54,22 @@ std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, 
     {
         juce::MidiBuffer midi;
         if (n == 0)
-            midi.addEvent(juce::MidiMessage::noteOn(1, note, velocity), 0);
+            midi = first;
         buffer.clear();
         p.processBlock(buffer, midi);
         for (int i = 0; i < block && n + i < total; ++i)
             out.push_back(buffer.getSample(0, i));
     }
     return out;
+}
+
+// Renders `seconds` with one note held from the start; returns the left channel.
+std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, double seconds, int note = 55,
+                               juce::uint8 velocity = 100)
+{
+    juce::MidiBuffer midi;
+    midi.addEvent(juce::MidiMessage::noteOn(1, note, velocity), 0);
+    return render(p, rate, block, seconds, midi);
 }
 
 double peakOf(const std::vector<double>& y)
@@ -443,7 +452,7 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
         }
 }
 
-TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack", "[plugin]")
+TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack", "[plugin]")
 {
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
@@ -456,10 +465,21 @@ TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack
     REQUIRE(p.waitForBuilds());
     const long before = p.packsInstalled();
     long counted = 0;
+    // Keys pressed on the editor's keyboard between blocks (the message thread's work, not counted).
+    auto pressKey = [&](int note, bool down) {
+        test::countAllocationsOnThisThread(false);
+        if (down)
+            p.keyboardState().noteOn(1, note, 0.8f);
+        else
+            p.keyboardState().noteOff(1, note, 0.0f);
+        test::countAllocationsOnThisThread(true);
+    };
     {
         test::CountAllocations guard;
         for (int b = 0; b < 200; ++b)
         {
+            if (b % 10 == 5)
+                pressKey(60 + (b / 20) % 12, b % 20 == 5);
             midi.clear();
             if (b < 12)
                 midi.addEvent(juce::MidiMessage::noteOn(1, 48 + b, juce::uint8(100)), b * 13);
@@ -629,4 +649,24 @@ TEST_CASE("The editor opens without a window and draws the sounding string", "[p
     const auto image = editor->createComponentSnapshot(editor->getLocalBounds());
     CHECK(image.getWidth() == 1200);
     p.editorBeingDeleted(editor.get());
+}
+
+TEST_CASE("A note pressed on the keyboard state sounds in tune and stops on release", "[plugin]")
+{
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);
+    p.prepareToPlay(48000.0, 256);
+    CHECK(peakOf(render(p, 48000.0, 256, 0.1)) == 0.0);
+    p.keyboardState().noteOn(1, 69, 100.0f / 127.0f);
+    const auto held = render(p, 48000.0, 256, 0.6);
+    CHECK(peakOf(held) > 1e-3);
+    CHECK(peakOf(held) <= 1.0);
+    const double f = peakFrequency(held, 48000.0, 400.0, 480.0, 4800);
+    INFO("f0 " << f);
+    CHECK(std::abs(f / 440.0 - 1.0) < 2e-3);
+    // Released: the default 0.4 s release takes it 60 dB down; after 1.5 s it is far below.
+    p.keyboardState().noteOff(1, 69, 0.0f);
+    const auto released = render(p, 48000.0, 256, 1.5);
+    const std::vector<double> tail(released.end() - 4800, released.end());
+    CHECK(peakOf(tail) < 1e-3 * peakOf(held));
 }
