@@ -17,7 +17,8 @@ public:
     struct Event
     {
         int note = 0;
-        float velocity = 0.0f;  // 0: note-off
+        float velocity = 0.0f;
+        bool on = false;
     };
 
     KeyboardInput() { state_.addListener(this); }
@@ -38,8 +39,11 @@ public:
 
 private:
     // Called by the thread that presses a key, under the state's lock: one producer at a time.
-    void handleNoteOn(juce::MidiKeyboardState*, int, int note, float velocity) override { push({note, velocity}); }
-    void handleNoteOff(juce::MidiKeyboardState*, int, int note, float) override { push({note, 0.0f}); }
+    void handleNoteOn(juce::MidiKeyboardState*, int, int note, float velocity) override
+    {
+        push({note, velocity, true});
+    }
+    void handleNoteOff(juce::MidiKeyboardState*, int, int note, float) override { push({note, 0.0f, false}); }
     // A full queue (audio not running) drops the event.
     void push(Event e)
     {

@@ -153,7 +153,7 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         }
     };
     keyboard_.drain([this](const KeyboardInput::Event& e) {
-        if (e.velocity > 0.0f)
+        if (e.on)
             instrument_.noteOn(e.note, e.velocity);
         else
             instrument_.noteOff(e.note);
