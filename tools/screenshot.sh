@@ -9,14 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-Resources/Screenshots/standalone.png}"
-missing=()
-for p in xvfb xdotool imagemagick; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-    sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
+bash tools/deps.sh xvfb xdotool imagemagick
 app=$(pwd)/build/Source/Jawari_artefacts/Release/Standalone/Jawari
 [ -x "$app" ] || { echo "screenshot: build first (bash tools/build.sh)" >&2; exit 1; }
 mkdir -p "$(dirname "$out")"
