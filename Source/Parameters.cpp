@@ -174,6 +174,7 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     addDrone(layout);
     addDroneTuning(layout);
     addMidi(layout);
+    layout.add(number(ids::stereoWidth, "Stereo width", Range(0.0f, 1.0f, 0.01f), kControlDefaults.stereoWidth, "", 2));
     return layout;
 }
 
@@ -227,6 +228,7 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneStrength = get(ids::droneStrength);
     c.droneTuning = rounded(get(ids::droneTuning)) == 1 ? DroneTuning::equal : DroneTuning::just;
     c.droneSaHz = get(ids::droneSaHz);
+    c.stereoWidth = get(ids::stereoWidth);
     c.droneFineCents = {get(ids::droneFine1), get(ids::droneFine2), get(ids::droneFine3), get(ids::droneFine4)};
     return c;
 }

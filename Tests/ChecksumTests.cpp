@@ -113,6 +113,7 @@ uint64_t hashInstrument(ObstacleShape shape)
     controls.drone = true;
     controls.droneTempo = 200;
     controls.droneTuning = DroneTuning::equal;  // as the drone was tuned when the hashes were stored
+    controls.stereoWidth = 0.0;                 // and the MIDI strings sat in the centre
     instrument.setControls(controls);
 
     Fnv1a h;

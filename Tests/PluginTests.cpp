@@ -99,7 +99,8 @@ TEST_CASE("Headless render of the paper presets matches the reference solver", "
         JawariAudioProcessor p;
         p.setCurrentProgram(factoryPresetIndex(c.preset));
         setParameter(p, ids::drone, 0.0f);
-        setParameter(p, ids::quality, 1.0f);  // standard
+        setParameter(p, ids::quality, 1.0f);      // standard
+        setParameter(p, ids::stereoWidth, 0.0f);  // the string in the centre, as the scale below assumes
         const double rate = 48000.0;
         p.prepareToPlay(rate, 512);
         const auto y = renderNote(p, rate, 512, 1.2, 55, 100);
@@ -248,7 +249,8 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::droneFine3, 0.0f},
                                                       {ids::droneFine4, 0.0f},
                                                       {ids::mpe, 0.0f},
-                                                      {ids::mpeBendRange, 48.0f}};
+                                                      {ids::mpeBendRange, 48.0f},
+                                                      {ids::stereoWidth, 0.6f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -301,7 +303,8 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::droneFine3, 2.5f},
                                                     {ids::droneFine4, -12.0f},
                                                     {ids::mpe, 1.0f},
-                                                    {ids::mpeBendRange, 24.0f}};
+                                                    {ids::mpeBendRange, 24.0f},
+                                                    {ids::stereoWidth, 0.25f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -349,6 +352,7 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(c.droneFineCents[3] == Approx(-12.0).epsilon(1e-4));
     CHECK(reader.midi().mpe);
     CHECK(reader.midi().mpeBendRange == Approx(24.0));
+    CHECK(c.stereoWidth == Approx(0.25).epsilon(1e-4));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")

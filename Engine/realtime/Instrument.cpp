@@ -262,6 +262,13 @@ double Instrument::slotHeight(int slot) const
                        : current_.obstacleHeight;
 }
 
+double Instrument::keyboardPan(double pitch) const
+{
+    if (current_.stereoWidth == 0.0)
+        return 0.0;
+    return current_.stereoWidth * std::clamp((pitch - 72.0) / 24.0, -1.0, 1.0);
+}
+
 void Instrument::channelBend(int channel, double semitones)
 {
     if (channel >= 1 && channel <= 16)
@@ -550,6 +557,7 @@ void Instrument::smoothControls(int count, double rate)
     current_.bendRangeSemitones =
         std::clamp(finiteOr(target_.bendRangeSemitones, defaults.bendRangeSemitones), 0.0, 24.0);
     current_.gainDb = std::clamp(finiteOr(target_.gainDb, defaults.gainDb), -120.0, 24.0);
+    current_.stereoWidth = std::clamp(finiteOr(target_.stereoWidth, defaults.stereoWidth), 0.0, 1.0);
     current_.drone = target_.drone;
     current_.droneTonic = target_.droneTonic;
     current_.droneFirst = target_.droneFirst;
@@ -609,7 +617,8 @@ void Instrument::renderString(int slot, float* left, float* right, int count, do
     maxIterations_ = std::max(maxIterations_, voice.takeMaxIterations());
     chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
-    const double panLeft = level * std::sqrt(0.5 * (1.0 - s.pan)), panRight = level * std::sqrt(0.5 * (1.0 + s.pan));
+    const double pan = slot < kMidiVoices ? keyboardPan(slotPitchNow(slot)) : s.pan;
+    const double panLeft = level * std::sqrt(0.5 * (1.0 - pan)), panRight = level * std::sqrt(0.5 * (1.0 + pan));
     const double outputScale = pack_->outputScale;
     for (int n = 0; n < count; ++n)
     {

@@ -86,6 +86,9 @@ struct InstrumentControls
     double qTeInv = DampingParameters{}.qTeInv;    // thermoelastic 1/Q
     std::array<double, kDampingCurvePoints> dampingCurve{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};  // multipliers
     double gainDb = 0.0;
+    // How far the MIDI strings spread across the stereo field by pitch: 0 all in the centre; 1 from
+    // hard left at C3 (48) and below to hard right at C7 (96) and above, C5 (72) in the centre.
+    double stereoWidth = 0.6;
     double bendRangeSemitones = 2.0;
     double tuningA4Hz = 440.0;
     // The pitch each MIDI key plays (equal temperament, or a Scala scale: Tuning.h); NaN: unmapped.
@@ -217,6 +220,7 @@ private:
     void startKey(int slot, int note, double velocity, int channel);  // a MIDI key at its pitch in keyPitches
     double slotPitchNow(int slot) const;                              // its pitch with the bends that apply to it
     double slotHeight(int slot) const;                                // its bridge's height with its pressure
+    double keyboardPan(double pitch) const;                           // -1 .. 1: where a MIDI string at a pitch sits
     void retune(int slot);
     double noteRatio(double note) const;
     void applyContact();
