@@ -6,9 +6,7 @@
 // Bit identity holds for one compiler and one instruction set, so the hashes are stored for the
 // build they were taken with (the plain Release build, GCC 12, -march=native on an AVX-512 core:
 // this project's CI machine). Another build (a sanitizer's, a portable one) prints its hashes and
-// checks nothing. The reference's DST path is not
-// among them: FFTW's measured plans differ from run to run in their last bits (ReferenceTests
-// compares it with the projection path instead).
+// checks nothing.
 
 #include "TestSupport.h"
 #include "offline/OfflineRender.h"
@@ -144,6 +142,22 @@ TEST_CASE("The reference renders both paper scenes bit for bit as stored", "[che
 {
     checkHash("reference, paper-centre", hashRender(paperScene("paper-centre.json", 0.04)), 0x46b895d3fb78d96full);
     checkHash("reference, paper-tanpura", hashRender(paperScene("paper-tanpura.json", 0.04)), 0x3a7916736ff626eeull);
+}
+
+TEST_CASE("The reference's transform path renders a bridge bit for bit as stored", "[checksum]")
+{
+    Scene scene = paperScene("paper-centre.json", 0.02);
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = 0.3;
+    bridge.width = 0.1;
+    bridge.curvature = 0.5;
+    bridge.height = 0.2e-3;
+    bridge.law = {1e10, 1.5};
+    scene.obstacles = {bridge};
+    scene.simulation.modes = 399;
+    scene.simulation.rateHz = 400000.0;
+    checkHash("reference, DST bridge", hashRender(scene), 0x7f5f8a0edc5ef528ull);
 }
 
 TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every method", "[checksum]")
