@@ -176,7 +176,7 @@ TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every
 
 TEST_CASE("The instrument plays a script bit for bit as stored, on each obstacle shape", "[checksum]")
 {
-    checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0x520ce0229a2a2a94ull);
-    checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola), 0x982773f9a9c60905ull);
-    checkHash("instrument, frets", hashInstrument(ObstacleShape::frets), 0x3af6e032e7c0e335ull);
+    checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0x09a04979fef111e0ull);
+    checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola), 0x916fa4864bced1f5ull);
+    checkHash("instrument, frets", hashInstrument(ObstacleShape::frets), 0x4067d3312e9795fdull);
 }

@@ -136,8 +136,15 @@ struct VoicePack
     // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
     // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
     double outputScale = 120.0;
+    // The strings are mixed at the internal rate and decimated once per channel (the decimator is
+    // linear): the two decimators and the chunk's internal-rate buffers (Instrument::kChunk host
+    // samples each).
+    std::vector<Decimator> decimators;  // left, right
+    std::vector<double> mixLeft, mixRight, stringBlock;
+    int oversampling = 1;
 
-    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...).
+    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
+    // and the decimators' history.
     void takeMotionFrom(VoicePack& other);
 };
 
@@ -230,7 +237,8 @@ private:
     void publishSnapshot();
     void smoothControls(int count, double rate);
     void retuneSounding(int count, double rate);
-    void renderString(int slot, float* left, float* right, int count, double gainStart);
+    void mixChunk(float* left, float* right, int count, double gainStart);
+    void renderString(int slot, int count, double gainStart);
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
 
@@ -251,7 +259,7 @@ private:
     bool sustain_ = false;
     uint64_t clock_ = 0;
     double gain_ = 1.0;
-    std::vector<double> scratch_;
+
     bool droneOn_ = false;
     double droneCountdown_ = 0.0;  // host samples to the next drone pluck
     int droneNext_ = 0;
