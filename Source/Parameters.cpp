@@ -195,6 +195,32 @@ void addDrone(Layout& layout)
     layout.add(number(ids::droneStrength, "Drone strength", Range(0.0f, 1.0f, 0.001f), c.droneStrength, asPercent()));
 }
 
+// How the drone is tuned.
+void addDroneTuning(Layout& layout)
+{
+    const auto& c = kControlDefaults;
+    layout.add(choice(ids::droneTuning, "Drone tuning", juce::StringArray{"just", "equal temperament"},
+                      static_cast<int>(c.droneTuning)));
+    // 0: the tonic note sets Sa.
+    layout.add(number(ids::droneSaHz, "Drone Sa frequency", Range(0.0f, 1000.0f, 0.01f), c.droneSaHz,
+                      {[](double v) { return v > 0.0 ? text::fixed(v, 2) + " Hz" : juce::String("from Sa note"); },
+                       text::leadingNumber}));
+    const char* fine[] = {ids::droneFine1, ids::droneFine2, ids::droneFine3, ids::droneFine4};
+    const char* names[] = {"Drone fine tune: first string", "Drone fine tune: Sa", "Drone fine tune: second Sa",
+                           "Drone fine tune: low Sa"};
+    for (size_t k = 0; k < std::size(fine); ++k)
+        layout.add(number(fine[k], names[k], Range(-50.0f, 50.0f, 0.1f), c.droneFineCents[k], inUnit("cents", 1)));
+}
+
+// How MIDI is read.
+void addMidi(Layout& layout)
+{
+    const MidiSettings m;
+    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::mpe, 1}, "MPE", m.mpe));
+    layout.add(number(ids::mpeBendRange, "MPE note bend range", Range(1.0f, 96.0f, 1.0f), m.mpeBendRange,
+                      inUnit("semitones", 0)));
+}
+
 int rounded(float value)
 {
     return static_cast<int>(std::lround(value));
@@ -209,6 +235,10 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     addPointsAndDamping(layout, string);
     addQualityAndOutput(layout);
     addDrone(layout);
+    addDroneTuning(layout);
+    addMidi(layout);
+    layout.add(
+        number(ids::stereoWidth, "Stereo width", Range(0.0f, 1.0f, 0.01f), kControlDefaults.stereoWidth, asPercent()));
     return layout;
 }
 
@@ -260,7 +290,16 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneTempo = get(ids::droneTempo);
     c.humanise = get(ids::humanise);
     c.droneStrength = get(ids::droneStrength);
+    c.droneTuning = rounded(get(ids::droneTuning)) == 1 ? DroneTuning::equal : DroneTuning::just;
+    c.droneSaHz = get(ids::droneSaHz);
+    c.stereoWidth = get(ids::stereoWidth);
+    c.droneFineCents = {get(ids::droneFine1), get(ids::droneFine2), get(ids::droneFine3), get(ids::droneFine4)};
     return c;
+}
+
+MidiSettings ParameterReader::midi() const
+{
+    return {get(ids::mpe) > 0.5f, get(ids::mpeBendRange)};
 }
 
 }  // namespace jawari::plugin

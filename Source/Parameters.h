@@ -44,6 +44,15 @@ inline constexpr const char* droneFirst = "droneFirst";
 inline constexpr const char* droneTempo = "droneTempo";
 inline constexpr const char* humanise = "humanise";
 inline constexpr const char* droneStrength = "droneStrength";
+inline constexpr const char* droneTuning = "droneTuning";
+inline constexpr const char* droneSaHz = "droneSaHz";
+inline constexpr const char* droneFine1 = "droneFine1";
+inline constexpr const char* droneFine2 = "droneFine2";
+inline constexpr const char* droneFine3 = "droneFine3";
+inline constexpr const char* droneFine4 = "droneFine4";
+inline constexpr const char* mpe = "mpe";
+inline constexpr const char* stereoWidth = "stereoWidth";
+inline constexpr const char* mpeBendRange = "mpeBendRange";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -72,7 +81,16 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::droneFirst,
                                                 ids::droneTempo,
                                                 ids::humanise,
-                                                ids::droneStrength};
+                                                ids::droneStrength,
+                                                ids::droneTuning,
+                                                ids::droneSaHz,
+                                                ids::droneFine1,
+                                                ids::droneFine2,
+                                                ids::droneFine3,
+                                                ids::droneFine4,
+                                                ids::mpe,
+                                                ids::mpeBendRange,
+                                                ids::stereoWidth};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.
@@ -108,6 +126,14 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout();
 
 // Raw (denormalised) parameter values, read lock-free from the APVTS atomics. The atomics are
 // found by id once, at construction (CT); reading them does no lookup.
+// How the plugin reads MIDI: MPE (per-note expression, the lower zone: channel 1 the master,
+// 2..16 one note each) or not.
+struct MidiSettings
+{
+    bool mpe = false;
+    double mpeBendRange = 48.0;  // semitones of a member channel's full bend (the MPE default)
+};
+
 class ParameterReader
 {
 public:
@@ -117,6 +143,7 @@ public:
     InstrumentStructure structure(double hostRateHz) const;
     // RT: the controls, with the damping curve given.
     InstrumentControls controls(const std::array<std::atomic<float>, kDampingCurvePoints>& curve) const;
+    MidiSettings midi() const;  // RT
 
 private:
     float get(ParameterIndex id) const { return values_[id.value()]->load(std::memory_order_relaxed); }

@@ -77,8 +77,23 @@ const ControlSpec kControls[] = {
     {"Drone", ids::humanise, "Humanise",
      "Spreads the drone's timing (up to 15 %) and pluck strength (up to 25 %) as a player's hand would."},
     {"Drone", ids::droneStrength, "Strength", "How hard the drone's strings are plucked."},
+    {"Drone tuning", ids::droneTuning, "Tuning",
+     "How the drone's strings are tuned from Sa: just intervals (Pa 3/4, Ma 2/3, Ni 15/16 below Sa, low Sa 1/2) "
+     "or equal temperament."},
+    {"Drone tuning", ids::droneSaHz, "Sa in Hz", "Sa as a frequency; at 0 the Sa note sets it."},
+    {"Drone tuning", ids::droneFine1, "First", "Fine tune of the first string (Pa, Ma, Ni or Sa)."},
+    {"Drone tuning", ids::droneFine2, "Sa", "Fine tune of the Sa string."},
+    {"Drone tuning", ids::droneFine3, "Second Sa", "Fine tune of the second Sa string."},
+    {"Drone tuning", ids::droneFine4, "Low Sa", "Fine tune of the low Sa string."},
     {"Output", ids::gain, "Gain", "The output level."},
     {"Output", ids::bendRange, "Bend range", "How far the pitch wheel bends the strings, each way."},
+    {"Output", ids::stereoWidth, "Width",
+     "How far the strings spread across the stereo field by pitch: 100 % from hard left at C3 to hard right at "
+     "C7, 0 all in the centre."},
+    {"MIDI", ids::mpe, "MPE",
+     "MPE (the lower zone): a note on its own channel 2..16 bends, presses (its bridge up to 0.5 mm further "
+     "in: more buzz) and slides (its damping) by itself; channel 1 moves every note."},
+    {"MIDI", ids::mpeBendRange, "MPE bend", "How far a note's own pitch bend goes under MPE, each way."},
     {"Quality", ids::quality, "Quality",
      "How much of the model runs: draft (eight strings and the drone in real time on one core), standard, "
      "high or paper (the most modes and the highest internal rate)."},
@@ -90,7 +105,7 @@ static_assert(std::size(kControls) == kParameterCount);
 
 // The panels, row by row as the editor lays them out.
 const std::vector<std::vector<const char*>> kPanelRows = {
-    {"String", "Output"}, {"Obstacle"}, {"Damping", "Quality"}, {"Drone"}};
+    {"String", "Output"}, {"Obstacle"}, {"Damping", "Quality"}, {"Drone"}, {"Drone tuning", "MIDI"}};
 
 // The keyboard's and the Pluck button's velocity, wherever a key is clicked: the paper's 1.5 mm
 // pluck (velocity 100).
@@ -431,8 +446,8 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     refreshTexts();
 
     setResizable(true, true);
-    setResizeLimits(1000, 700, 2400, 1600);
-    setSize(1240, 820);
+    setResizeLimits(1000, 760, 2400, 1600);
+    setSize(1240, 900);
     startTimerHz(30);
 }
 

@@ -69,6 +69,10 @@ JawariAudioProcessor::JawariAudioProcessor()
 {
     for (auto& c : curve_)
         c.store(1.0f);
+    const auto equal = equalTemperament();
+    for (size_t n = 0; n < keyPitches_.size(); ++n)
+        keyPitches_[n].store(equal[n]);
+    scaleName_ = "equal temperament";
     builder_ = std::make_unique<Builder>(*this);
 }
 
@@ -131,7 +135,10 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         exchange_.retire();
         packsInstalled_.fetch_add(1, std::memory_order_relaxed);
     }
-    instrument_.setControls(reader_.controls(curve_));
+    InstrumentControls controls = reader_.controls(curve_);
+    for (size_t n = 0; n < controls.keyPitches.size(); ++n)
+        controls.keyPitches[n] = keyPitches_[n].load(std::memory_order_relaxed);
+    instrument_.setControls(controls);
 
     float* left = buffer.getWritePointer(0);
     float* right = buffer.getNumChannels() > 1 ? buffer.getWritePointer(1) : nullptr;
@@ -158,22 +165,11 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         else
             instrument_.noteOff(e.note);
     });
+    const MidiSettings settings = reader_.midi();
     for (const auto metadata : midi)
     {
         renderTo(std::clamp(metadata.samplePosition, 0, numSamples));
-        const auto m = metadata.getMessage();
-        if (m.isNoteOn())
-            instrument_.noteOn(m.getNoteNumber(), m.getFloatVelocity());
-        else if (m.isNoteOff())
-            instrument_.noteOff(m.getNoteNumber());
-        else if (m.isPitchWheel())
-            instrument_.pitchBend((m.getPitchWheelValue() - 8192) / 8192.0);
-        else if (m.isSustainPedalOn())
-            instrument_.sustain(true);
-        else if (m.isSustainPedalOff())
-            instrument_.sustain(false);
-        else if (m.isAllNotesOff() || m.isAllSoundOff())
-            instrument_.allNotesOff();
+        handleMidi(metadata.getMessage(), settings);
     }
     renderTo(numSamples);
     for (int c = 2; c < buffer.getNumChannels(); ++c)
@@ -186,6 +182,38 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         w = (w + 1) % kRecent;
     }
     recentWrite_.store(w, std::memory_order_release);
+}
+
+// One MIDI message to the instrument. Under MPE (the lower zone) a note on channel 2..16 carries
+// its own bend, pressure and slide (CC 74); channel 1's bend, and every bend without MPE, moves
+// every note.
+void JawariAudioProcessor::handleMidi(const juce::MidiMessage& m, const MidiSettings& settings)
+{
+    const int channel = m.getChannel();
+    const bool member = settings.mpe && channel >= 2;
+    const int noteChannel = member ? channel : 0;
+    if (m.isNoteOn())
+        instrument_.noteOn(m.getNoteNumber(), m.getFloatVelocity(), noteChannel);
+    else if (m.isNoteOff())
+        instrument_.noteOff(m.getNoteNumber(), noteChannel);
+    else if (m.isPitchWheel())
+    {
+        const double amount = (m.getPitchWheelValue() - 8192) / 8192.0;
+        if (member)
+            instrument_.channelBend(channel, amount * settings.mpeBendRange);
+        else
+            instrument_.pitchBend(amount);
+    }
+    else if (member && m.isChannelPressure())
+        instrument_.channelPressure(channel, m.getChannelPressureValue() / 127.0);
+    else if (member && m.isControllerOfType(74))
+        instrument_.channelSlide(channel, m.getControllerValue() / 127.0);
+    else if (m.isSustainPedalOn())
+        instrument_.sustain(true);
+    else if (m.isSustainPedalOff())
+        instrument_.sustain(false);
+    else if (m.isAllNotesOff() || m.isAllSoundOff())
+        instrument_.allNotesOff();
 }
 
 int JawariAudioProcessor::readRecentOutput(float* dest, int count)
@@ -251,6 +279,40 @@ void JawariAudioProcessor::setDampingCurvePoint(int i, float multiplier)
     curve_[size_t(i)].store(std::isfinite(multiplier) ? std::clamp(multiplier, lowest, highest) : 1.0f);
 }
 
+juce::String JawariAudioProcessor::setKeyboardTuning(const juce::String& scale, const juce::String& keyboardMap)
+{
+    KeyboardPitches pitches = equalTemperament();
+    juce::String name = "equal temperament";
+    try
+    {
+        if (scale.trim().isNotEmpty())
+        {
+            const auto parsed = parseScalaScale(scale.toStdString());
+            const auto map =
+                keyboardMap.trim().isNotEmpty() ? parseKeyboardMap(keyboardMap.toStdString()) : KeyboardMap{};
+            pitches = keyboardPitches(parsed, map);
+            name = parsed.description.empty() ? juce::String("Scala scale") : juce::String(parsed.description);
+        }
+    }
+    catch (const TuningError& e)
+    {
+        return e.what();
+    }
+    const std::lock_guard<std::mutex> lock(tuningLock_);
+    scaleText_ = scale.trim().isNotEmpty() ? scale : juce::String();
+    keyboardMapText_ = scaleText_.isNotEmpty() ? keyboardMap : juce::String();
+    scaleName_ = name;
+    for (size_t n = 0; n < pitches.size(); ++n)
+        keyPitches_[n].store(pitches[n], std::memory_order_relaxed);
+    return {};
+}
+
+juce::String JawariAudioProcessor::keyboardTuningName() const
+{
+    const std::lock_guard<std::mutex> lock(tuningLock_);
+    return scaleName_;
+}
+
 juce::ValueTree JawariAudioProcessor::state() const
 {
     juce::ValueTree tree("JawariState");
@@ -270,6 +332,14 @@ juce::ValueTree JawariAudioProcessor::state() const
     for (int i = 0; i < kDampingCurvePoints; ++i)
         curve.setProperty("p" + juce::String(i), curve_[size_t(i)].load(), nullptr);
     tree.appendChild(curve, nullptr);
+    const std::lock_guard<std::mutex> lock(tuningLock_);
+    if (scaleText_.isNotEmpty())
+    {
+        juce::ValueTree tuning("KeyboardTuning");
+        tuning.setProperty("scale", scaleText_, nullptr);
+        tuning.setProperty("keyboardMap", keyboardMapText_, nullptr);
+        tree.appendChild(tuning, nullptr);
+    }
     return tree;
 }
 
@@ -337,6 +407,12 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
     }
     const double program = numberIn(tree.getProperty("program", 0));
     currentProgram_ = program >= 0.0 && program < getNumPrograms() ? static_cast<int>(program) : 0;
+    // The keyboard's tuning; a state without one, or with one that does not parse, plays equal
+    // temperament.
+    const auto tuning = tree.getChildWithName("KeyboardTuning");
+    if (setKeyboardTuning(tuning.getProperty("scale").toString(), tuning.getProperty("keyboardMap").toString())
+            .isNotEmpty())
+        setKeyboardTuning({}, {});
 }
 
 void JawariAudioProcessor::getStateInformation(juce::MemoryBlock& destData)

@@ -18,6 +18,7 @@
 #include <array>
 #include <atomic>
 #include <memory>
+#include <mutex>
 
 namespace jawari::plugin
 {
@@ -67,6 +68,12 @@ public:
     float dampingCurvePoint(int i) const { return curve_[size_t(i)].load(); }
     void setDampingCurvePoint(int i, float multiplier);
 
+    // The keyboard's tuning: a Scala scale (.scl text) with an optional keyboard map (.kbm text),
+    // kept in the state; an empty scale is equal temperament. CT. Returns what is wrong with the
+    // texts (the tuning unchanged then), or an empty string.
+    juce::String setKeyboardTuning(const juce::String& scale, const juce::String& keyboardMap);
+    juce::String keyboardTuningName() const;  // the scale's description, or "equal temperament"
+
     juce::AudioProcessorValueTreeState& parameters() { return parameters_; }
     // CT: the editor's keyboard. Its notes are played at the start of the next block.
     juce::MidiKeyboardState& keyboardState() { return keyboard_.state(); }
@@ -84,10 +91,16 @@ private:
     class Builder;
     void handleAsyncUpdate() override;
     void installNow(std::unique_ptr<VoicePack> pack);
+    void handleMidi(const juce::MidiMessage& m, const MidiSettings& settings);  // RT
 
     juce::AudioProcessorValueTreeState parameters_;
     ParameterReader reader_;
     std::array<std::atomic<float>, kDampingCurvePoints> curve_;
+    // The keyboard's tuning as loaded (CT, under tuningLock_) and the pitch table the audio thread
+    // reads (written CT, one note at a time: a note read mid-change plays the old or the new pitch).
+    mutable std::mutex tuningLock_;
+    juce::String scaleText_, keyboardMapText_, scaleName_;
+    std::array<std::atomic<double>, kMidiNotes> keyPitches_;
     Instrument instrument_;
     KeyboardInput keyboard_;
     LockFreeExchange<VoicePack> exchange_;

@@ -168,7 +168,8 @@ TEST_CASE("The tanpura drone plucks Pa Sa Sa Sa in cycle on its own bridges", "[
     Instrument instrument;
     InstrumentControls c;
     c.drone = true;
-    c.droneTempo = 120.0;  // a pluck every 0.5 s, 1 s after the low Sa: a 2.5 s cycle
+    c.droneTuning = DroneTuning::equal;  // the equal-tempered notes below; the just ones in TuningTests
+    c.droneTempo = 120.0;                // a pluck every 0.5 s, 1 s after the low Sa: a 2.5 s cycle
     c.humanise = 0.0;
     c.droneTonic = 49;
     instrument.setControls(c);
@@ -247,4 +248,79 @@ TEST_CASE("A string decaying to nothing leaves no subnormal numbers behind", "[i
     INFO("modal values: " << zero << " exactly zero, " << subnormal << " subnormal");
     CHECK(subnormal == 0);
     CHECK(zero > 0);  // the decay did reach the bottom of the range
+}
+
+TEST_CASE("MPE: one note bends on its own channel while another holds its pitch; pressure and slide act per note",
+          "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    instrument.setControls(freeControls());
+    instrument.install(pack.get(), nullptr);
+    instrument.noteOn(57, 0.8, 2);  // A3 on channel 2
+    instrument.noteOn(52, 0.8, 3);  // E3 on channel 3
+    play(instrument, 0.2);
+    instrument.channelBend(2, 2.0);  // A3 up a whole tone, to B3
+    const auto y = play(instrument, 1.2);
+    const auto frequency = [&](int slot) { return pack->baseFundamentalHz * instrument.slotRatio(slot); };
+    REQUIRE(instrument.slotChannel(0) == 2);
+    REQUIRE(instrument.slotChannel(1) == 3);
+    const double b3 = 440.0 * std::pow(2.0, -10.0 / 12.0), e3 = 440.0 * std::pow(2.0, -17.0 / 12.0);
+    CHECK(std::abs(frequency(0) / b3 - 1.0) < 1e-12);
+    CHECK(std::abs(frequency(1) / e3 - 1.0) < 1e-12);
+    const double bent = peakFrequency(y, 48000.0, 235.0, 255.0, 9600, y.size() - 9600);
+    const double held = peakFrequency(y, 48000.0, 158.0, 170.0, 9600, y.size() - 9600);
+    INFO("bent note " << bent << " Hz (B3 " << b3 << "), held note " << held << " Hz (E3 " << e3 << ")");
+    CHECK(std::abs(bent / b3 - 1.0) < 0.003);
+    CHECK(std::abs(held / e3 - 1.0) < 0.003);
+
+    // Pressure on channel 3 presses E3's bridge in by up to 0.5 mm; A3's stays.
+    const double before = pack->voices[1]->solver().contact(0).height;
+    instrument.channelPressure(3, 1.0);
+    play(instrument, 0.01);
+    CHECK(pack->voices[1]->solver().contact(0).height - before == Approx(Instrument::kPressureHeightMetres));
+    CHECK(pack->voices[0]->solver().contact(0).height == before);
+    // Slide 0 on channel 2 doubles A3's damping; E3's stays.
+    const double sigmaA = pack->voices[0]->solver().sigma()[0], sigmaE = pack->voices[1]->solver().sigma()[0];
+    instrument.channelSlide(2, 0.0);
+    play(instrument, 0.01);
+    CHECK(pack->voices[0]->solver().sigma()[0] / sigmaA == Approx(2.0).epsilon(1e-9));
+    CHECK(pack->voices[1]->solver().sigma()[0] == sigmaE);
+    // A note-off on another channel leaves the note alone; on its own, it releases it.
+    instrument.noteOff(57, 3);
+    CHECK(instrument.activeStrings() == 2);
+    instrument.noteOff(57, 2);
+    play(instrument, 3.0);
+    CHECK(instrument.activeStrings() == 1);
+}
+
+TEST_CASE("The MIDI strings spread across the stereo field by pitch, and width 0 is mono", "[instrument]")
+{
+    // Renders one note and returns the level of the right channel over the left.
+    auto rightOverLeft = [](int note, double width) {
+        auto pack = buildVoicePack(freeStructure());
+        Instrument instrument;
+        auto c = freeControls();
+        c.stereoWidth = width;
+        instrument.setControls(c);
+        instrument.install(pack.get(), nullptr);
+        instrument.noteOn(note, 0.8);
+        std::vector<float> l(4800), r(4800);
+        instrument.render(l.data(), r.data(), 4800);
+        double left = 0.0, right = 0.0;
+        for (size_t n = 0; n < l.size(); ++n)
+        {
+            left += double(l[n]) * l[n];
+            right += double(r[n]) * r[n];
+        }
+        return std::sqrt(right / left);
+    };
+    // Equal power: a pan p gives right/left = sqrt((1 + p) / (1 - p)).
+    const double low = rightOverLeft(48, 1.0), high = rightOverLeft(96, 1.0), middle = rightOverLeft(60, 0.6);
+    INFO("right/left: C3 " << low << ", C7 " << high << ", C4 at width 0.6 " << middle);
+    CHECK(low < 1e-6);                                            // hard left
+    CHECK(high > 1e6);                                            // hard right
+    CHECK(middle == Approx(std::sqrt(0.7 / 1.3)).epsilon(1e-6));  // pan -0.3
+    CHECK(rightOverLeft(48, 0.0) == Approx(1.0).epsilon(1e-12));  // mono
+    CHECK(rightOverLeft(90, 0.0) == Approx(1.0).epsilon(1e-12));
 }

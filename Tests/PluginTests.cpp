@@ -108,7 +108,8 @@ TEST_CASE("Headless render of the paper presets matches the reference solver", "
         JawariAudioProcessor p;
         p.setCurrentProgram(factoryPresetIndex(c.preset));
         setParameter(p, ids::drone, 0.0f);
-        setParameter(p, ids::quality, 1.0f);  // standard
+        setParameter(p, ids::quality, 1.0f);      // standard
+        setParameter(p, ids::stereoWidth, 0.0f);  // the string in the centre, as the scale below assumes
         const double rate = 48000.0;
         p.prepareToPlay(rate, 512);
         const auto y = renderNote(p, rate, 512, 1.2, 55, 100);
@@ -161,7 +162,7 @@ TEST_CASE("The state round-trips every parameter and the damping curve", "[plugi
         CHECK(pa->convertFrom0to1(pa->getValue()) == Approx(pb->convertFrom0to1(pb->getValue())).margin(1e-5));
         ++checked;
     }
-    CHECK(checked == 26);
+    CHECK(checked == int(kParameterCount));
     for (int i = 0; i < kDampingCurvePoints; ++i)
         CHECK(b.dampingCurvePoint(i) == Approx(std::clamp(0.25f + 0.5f * float(i), 0.125f, 8.0f)));
 }
@@ -249,7 +250,16 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::droneFirst, 0.0f},
                                                       {ids::droneTempo, 60.0f},
                                                       {ids::humanise, 0.2f},
-                                                      {ids::droneStrength, 0.7f}};
+                                                      {ids::droneStrength, 0.7f},
+                                                      {ids::droneTuning, 0.0f},
+                                                      {ids::droneSaHz, 0.0f},
+                                                      {ids::droneFine1, 0.0f},
+                                                      {ids::droneFine2, 0.0f},
+                                                      {ids::droneFine3, 0.0f},
+                                                      {ids::droneFine4, 0.0f},
+                                                      {ids::mpe, 0.0f},
+                                                      {ids::mpeBendRange, 48.0f},
+                                                      {ids::stereoWidth, 0.6f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -341,7 +351,16 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::droneFirst, 2.0f},
                                                     {ids::droneTempo, 90.0f},
                                                     {ids::humanise, 0.5f},
-                                                    {ids::droneStrength, 0.35f}};
+                                                    {ids::droneStrength, 0.35f},
+                                                    {ids::droneTuning, 1.0f},
+                                                    {ids::droneSaHz, 146.5f},
+                                                    {ids::droneFine1, -3.5f},
+                                                    {ids::droneFine2, 1.5f},
+                                                    {ids::droneFine3, 2.5f},
+                                                    {ids::droneFine4, -12.0f},
+                                                    {ids::mpe, 1.0f},
+                                                    {ids::mpeBendRange, 24.0f},
+                                                    {ids::stereoWidth, 0.25f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -381,6 +400,15 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(c.droneTempo == Approx(90.0).epsilon(1e-4));
     CHECK(c.humanise == Approx(0.5).epsilon(1e-4));
     CHECK(c.droneStrength == Approx(0.35).epsilon(1e-4));
+    CHECK(c.droneTuning == DroneTuning::equal);
+    CHECK(c.droneSaHz == Approx(146.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[0] == Approx(-3.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[1] == Approx(1.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[2] == Approx(2.5).epsilon(1e-4));
+    CHECK(c.droneFineCents[3] == Approx(-12.0).epsilon(1e-4));
+    CHECK(reader.midi().mpe);
+    CHECK(reader.midi().mpeBendRange == Approx(24.0));
+    CHECK(c.stereoWidth == Approx(0.25).epsilon(1e-4));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
@@ -740,4 +768,71 @@ TEST_CASE("A note pressed on the keyboard state sounds in tune and stops on rele
     const auto released = render(p, 48000.0, 256, 1.5);
     const std::vector<double> tail(released.end() - 4800, released.end());
     CHECK(peakOf(tail) < 1e-3 * peakOf(held));
+}
+
+TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one is refused", "[plugin]")
+{
+    const juce::String justScale =
+        "5-limit just\n12\n16/15\n9/8\n6/5\n5/4\n4/3\n45/32\n3/2\n8/5\n5/3\n9/5\n15/8\n2/1\n";
+    const juce::String a440 = "12\n0\n127\n60\n69\n440.0\n12\n0\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n11\n";
+    JawariAudioProcessor p;
+    p.prepareToPlay(48000.0, 512);
+    setParameter(p, ids::obstacleHeight, -5.0f);  // the bridge out of reach: a free string, a clean pitch
+    REQUIRE(p.waitForBuilds());
+    CHECK(p.setKeyboardTuning(justScale, a440).isEmpty());
+    CHECK(p.keyboardTuningName() == "5-limit just");
+    // G4 (67) is C 3/2 = 396 Hz in this tuning (392.0 Hz in equal temperament).
+    const auto y = renderNote(p, 48000.0, 512, 1.5, 67);
+    const double f = peakFrequency(y, 48000.0, 380.0, 410.0, 4800, y.size() - 4800);
+    INFO("G4 plays " << f << " Hz");
+    CHECK(std::abs(f / 396.0 - 1.0) < 0.002);
+
+    // The state carries the scale: a second processor restores it.
+    juce::MemoryBlock saved;
+    p.getStateInformation(saved);
+    JawariAudioProcessor q;
+    q.setStateInformation(saved.getData(), int(saved.getSize()));
+    CHECK(q.keyboardTuningName() == "5-limit just");
+
+    // A bad scale is refused with its problem named, and the tuning stays.
+    const auto error = p.setKeyboardTuning("broken\n3\n100.0\n", {});
+    INFO("error: " << error);
+    CHECK(error.contains("announces 3 pitches but gives 1"));
+    CHECK(p.keyboardTuningName() == "5-limit just");
+    // Back to equal temperament.
+    CHECK(p.setKeyboardTuning({}, {}).isEmpty());
+    CHECK(p.keyboardTuningName() == "equal temperament");
+}
+
+TEST_CASE("MPE through processBlock: a note bends on its own channel while another holds its pitch", "[plugin]")
+{
+    JawariAudioProcessor p;
+    p.prepareToPlay(48000.0, 256);
+    setParameter(p, ids::obstacleHeight, -5.0f);  // free strings: clean pitches
+    setParameter(p, ids::mpe, 1.0f);
+    REQUIRE(p.waitForBuilds());
+    juce::AudioBuffer<float> buffer(2, 256);
+    std::vector<double> out;
+    for (int block = 0; block < 300; ++block)  // 1.6 s
+    {
+        juce::MidiBuffer midi;
+        if (block == 0)
+        {
+            midi.addEvent(juce::MidiMessage::noteOn(2, 57, juce::uint8(100)), 0);  // A3 on channel 2
+            midi.addEvent(juce::MidiMessage::noteOn(3, 52, juce::uint8(100)), 0);  // E3 on channel 3
+        }
+        if (block == 20)  // channel 2 bent by 2 of its 48 semitones: A3 to B3
+            midi.addEvent(juce::MidiMessage::pitchWheel(2, 8192 + 8192 * 2 / 48), 0);
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        for (int i = 0; i < 256; ++i)
+            out.push_back(buffer.getSample(0, i) + buffer.getSample(1, i));
+    }
+    const double b3 = 440.0 * std::pow(2.0, -10.0 / 12.0), e3 = 440.0 * std::pow(2.0, -17.0 / 12.0);
+    const double bent = peakFrequency(out, 48000.0, 235.0, 255.0, 12000, out.size() - 12000);
+    const double held = peakFrequency(out, 48000.0, 158.0, 170.0, 12000, out.size() - 12000);
+    INFO("bent note " << bent << " Hz (B3 " << b3 << "), held " << held << " Hz (E3 " << e3 << ")");
+    CHECK(std::abs(bent / b3 - 1.0) < 0.003);
+    CHECK(std::abs(held / e3 - 1.0) < 0.003);
+    CHECK(p.instrument().slotChannel(0) == 2);
 }

@@ -144,6 +144,10 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
         }
     }
     pack->latencySamples = pack->voices.front()->latencySamples();
+    pack->oversampling = quality.oversampling;
+    pack->decimators.assign(2, Decimator(quality.oversampling, structure.hostRateHz));
+    for (auto* buffer : {&pack->mixLeft, &pack->mixRight, &pack->stringBlock})
+        buffer->assign(size_t(Instrument::kChunk) * size_t(quality.oversampling), 0.0);
     pack->outputScale = 120.0 / std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02);
     return pack;
 }
@@ -154,11 +158,13 @@ void VoicePack::takeMotionFrom(VoicePack& other)
         return;
     for (size_t i = 0; i < voices.size() && i < other.voices.size(); ++i)
         voices[i]->takeMotionFrom(*other.voices[i]);
+    if (other.oversampling == oversampling)
+        for (size_t c = 0; c < decimators.size(); ++c)
+            decimators[c] = other.decimators[c];  // equal lengths: no allocation
 }
 
 Instrument::Instrument()
 {
-    scratch_.assign(kChunk, 0.0);
     const double pans[kDroneStrings] = {-0.6, -0.2, 0.2, 0.6};
     for (int i = 0; i < kDroneStrings; ++i)
         slots_[size_t(kMidiVoices + i)].pan = pans[i];
@@ -208,7 +214,10 @@ void Instrument::retune(int slot)
     string.damping.deltaVe = std::max(current_.deltaVe, 0.0);
     string.damping.qTeInv = std::max(current_.qTeInv, 0.0);
     const auto& f = voice.baseFrequencies();
-    const double scale = std::max(current_.decayScale, 0.0);
+    // The slide of the note's MPE channel: 0 doubles the damping, 1 halves it.
+    const int channel = slots_[size_t(slot)].channel;
+    const double slide = channel > 0 ? std::pow(4.0, 0.5 - channels_[size_t(channel)].slide) : 1.0;
+    const double scale = std::max(current_.decayScale, 0.0) * slide;
     for (int p = 0; p < M; ++p)
     {
         const double fp = r * f[size_t(p)];
@@ -223,18 +232,83 @@ void Instrument::applyContact()
 {
     if (pack_ == nullptr)
         return;
-    const ContactLaw law{std::max(current_.stiffness, 0.0), std::max(current_.exponent, 1.0)};
-    for (auto& v : pack_->voices)
-        v->setContactLaw(law, current_.obstacleHeight);
+    const ContactLaw law = contactLaw();
+    for (int i = 0; i < kSlots; ++i)
+        pack_->voices[size_t(i)]->setContactLaw(law, slotHeight(i));
 }
 
-void Instrument::start(int slot, int note, double velocity)
+ContactLaw Instrument::contactLaw() const
+{
+    return {std::max(current_.stiffness, 0.0), std::max(current_.exponent, 1.0)};
+}
+
+// A MIDI key: the pitch its tuning gives it (an unmapped key does not sound). The newest tuning
+// applies at once: pitches are not smoothed.
+void Instrument::startKey(int slot, int note, double velocity, int channel)
+{
+    const double pitch =
+        note >= 0 && note < kMidiNotes ? target_.keyPitches[size_t(note)] : std::numeric_limits<double>::quiet_NaN();
+    if (std::isfinite(pitch))
+        start(slot, note, pitch, velocity, channel);
+}
+
+double Instrument::slotPitchNow(int slot) const
+{
+    const auto& s = slots_[size_t(slot)];
+    if (slot >= kMidiVoices)
+        return s.pitch;
+    const double pitch = s.pitch + bendSmoothed_ * current_.bendRangeSemitones;
+    return s.channel > 0 ? pitch + channels_[size_t(s.channel)].bend : pitch;
+}
+
+double Instrument::slotHeight(int slot) const
+{
+    const int channel = slots_[size_t(slot)].channel;
+    return channel > 0 ? current_.obstacleHeight + kPressureHeightMetres * channels_[size_t(channel)].pressure
+                       : current_.obstacleHeight;
+}
+
+double Instrument::keyboardPan(double pitch) const
+{
+    if (current_.stereoWidth == 0.0)
+        return 0.0;
+    return current_.stereoWidth * std::clamp((pitch - 72.0) / 24.0, -1.0, 1.0);
+}
+
+void Instrument::channelBend(int channel, double semitones)
+{
+    if (channel >= 1 && channel <= 16)
+        channels_[size_t(channel)].bend = std::isfinite(semitones) ? std::clamp(semitones, -96.0, 96.0) : 0.0;
+}
+
+void Instrument::channelPressure(int channel, double amount)
+{
+    if (channel < 1 || channel > 16)
+        return;
+    channels_[size_t(channel)].pressure = std::isfinite(amount) ? std::clamp(amount, 0.0, 1.0) : 0.0;
+    pressureMoved_ = true;
+}
+
+void Instrument::channelSlide(int channel, double amount)
+{
+    if (channel < 1 || channel > 16)
+        return;
+    channels_[size_t(channel)].slide = std::isfinite(amount) ? std::clamp(amount, 0.0, 1.0) : 0.5;
+    slideMoved_[size_t(channel)] = true;
+}
+
+void Instrument::start(int slot, int note, double pitch, double velocity, int channel)
 {
     auto& s = slots_[size_t(slot)];
     auto& voice = *pack_->voices[size_t(slot)];
     const bool fromRest = !s.sounding || s.note != note;
+    const bool newChannel = s.channel != channel;
     s.note = note;
-    s.ratio = slot < kMidiVoices ? noteRatio(note + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(note);
+    s.pitch = pitch;
+    s.channel = channel;
+    s.ratio = noteRatio(slotPitchNow(slot));
+    if (newChannel)
+        voice.setContactLaw(contactLaw(), slotHeight(slot));
     if (fromRest)
     {
         voice.silence();
@@ -253,35 +327,37 @@ void Instrument::start(int slot, int note, double velocity)
     s.age = ++clock_;
 }
 
-void Instrument::noteOn(int note, double velocity)
+void Instrument::noteOn(int note, double velocity, int channel)
 {
     if (pack_ == nullptr)
         return;
     if (!(velocity > 0.0))
     {
-        noteOff(note);
+        noteOff(note, channel);
         return;
     }
     velocity = std::min(velocity, 1.0);
+    if (note < 0 || note >= kMidiNotes || !std::isfinite(target_.keyPitches[size_t(note)]))
+        return;  // a key the tuning leaves unmapped
     // The same note rings on its own string: pluck it again (a string can be re-plucked while sounding).
     for (int i = 0; i < kMidiVoices; ++i)
     {
         auto& s = slots_[size_t(i)];
-        if (s.fade >= 0 && s.pendingNote == note)
+        if (s.fade >= 0 && s.pendingNote == note && s.pendingChannel == channel)
         {
             s.pendingVelocity = velocity;
             return;
         }
-        if (s.sounding && s.fade < 0 && s.note == note)
+        if (s.sounding && s.fade < 0 && s.note == note && s.channel == channel)
         {
-            start(i, note, velocity);
+            startKey(i, note, velocity, channel);
             return;
         }
     }
     for (int i = 0; i < kMidiVoices; ++i)
         if (!slots_[size_t(i)].sounding)
         {
-            start(i, note, velocity);
+            startKey(i, note, velocity, channel);
             return;
         }
     // Steal: the quietest released string, else the oldest held one. It fades out over 5 ms first.
@@ -300,24 +376,25 @@ void Instrument::noteOn(int note, double velocity)
     if (s.fade < 0)
         s.fade = fadeLength_;
     s.pendingNote = note;
+    s.pendingChannel = channel;
     s.pendingVelocity = velocity;
     s.pendingHeld = true;
     s.pendingSustained = false;
 }
 
-void Instrument::noteOff(int note)
+void Instrument::noteOff(int note, int channel)
 {
     if (pack_ == nullptr)
         return;
     for (int i = 0; i < kMidiVoices; ++i)
     {
         auto& s = slots_[size_t(i)];
-        if (s.fade >= 0 && s.pendingNote == note && s.pendingHeld)
+        if (s.fade >= 0 && s.pendingNote == note && s.pendingChannel == channel && s.pendingHeld)
         {
             s.pendingHeld = false;
             s.pendingSustained = sustain_;
         }
-        if (s.note != note || !s.held)
+        if (s.note != note || s.channel != channel || !s.held)
             continue;
         s.held = false;
         if (sustain_)
@@ -374,13 +451,17 @@ double Instrument::nextRandom()
 
 void Instrument::dronePluck(int string)
 {
-    static constexpr int kFirstOffsets[4] = {-5, -7, -1, 0};  // Pa, Ma, Ni (below Sa), Sa
-    const int sa = std::clamp(current_.droneTonic, 12, 108);
-    const int notes[kDroneStrings] = {sa + kFirstOffsets[std::clamp(current_.droneFirst, 0, 3)], sa, sa, sa - 12};
+    // Sa from its frequency when one is set, else from its MIDI note; the strings below it by pure
+    // intervals or equal-tempered ones, each with its own fine tuning.
+    const double sa = current_.droneSaHz > 0.0 ? pitchOfFrequency(current_.droneSaHz, current_.tuningA4Hz)
+                                               : double(std::clamp(current_.droneTonic, 12, 108));
+    const auto first = static_cast<DroneFirstString>(std::clamp(current_.droneFirst, 0, 3));
+    const double pitch =
+        dronePitch(string, sa, first, current_.droneTuning) + current_.droneFineCents[size_t(string)] / 100.0;
     const int slot = kMidiVoices + string;
     const double h = std::clamp(current_.humanise, 0.0, 1.0);
     const double velocity = std::clamp(current_.droneStrength * (1.0 + 0.25 * h * nextRandom()), 0.05, 1.0);
-    start(slot, notes[string], velocity);
+    start(slot, static_cast<int>(std::lround(pitch)), pitch, velocity);
     ++dronePlucks_;
 }
 
@@ -431,8 +512,7 @@ void Instrument::render(float* left, float* right, int numSamples)
         smoothControls(count, rate);
         retuneSounding(count, rate);
         scheduleDrone(count);
-        for (int i = 0; i < kSlots; ++i)
-            renderString(i, left + offset, right + offset, count, gainStart);
+        mixChunk(left + offset, right + offset, count, gainStart);
         if (++chunksSinceSnapshot_ * kChunk >= rate / 30.0)
         {
             publishSnapshot();
@@ -482,9 +562,14 @@ void Instrument::smoothControls(int count, double rate)
     current_.bendRangeSemitones =
         std::clamp(finiteOr(target_.bendRangeSemitones, defaults.bendRangeSemitones), 0.0, 24.0);
     current_.gainDb = std::clamp(finiteOr(target_.gainDb, defaults.gainDb), -120.0, 24.0);
+    current_.stereoWidth = std::clamp(finiteOr(target_.stereoWidth, defaults.stereoWidth), 0.0, 1.0);
     current_.drone = target_.drone;
     current_.droneTonic = target_.droneTonic;
     current_.droneFirst = target_.droneFirst;
+    current_.droneTuning = target_.droneTuning;
+    current_.droneSaHz = std::clamp(finiteOr(target_.droneSaHz, 0.0), 0.0, 2000.0);
+    for (size_t k = 0; k < current_.droneFineCents.size(); ++k)
+        current_.droneFineCents[k] = std::clamp(finiteOr(target_.droneFineCents[k], 0.0), -100.0, 100.0);
     current_.droneTempo = finiteOr(target_.droneTempo, defaults.droneTempo);
     current_.humanise = finiteOr(target_.humanise, 0.0);
     current_.droneStrength = std::clamp(finiteOr(target_.droneStrength, defaults.droneStrength), 0.0, 1.0);
@@ -506,34 +591,59 @@ void Instrument::retuneSounding(int count, double rate)
         auto& s = slots_[size_t(i)];
         if (!s.sounding || s.fade >= 0)
             continue;
-        const double wanted =
-            i < kMidiVoices ? noteRatio(s.note + bendSmoothed_ * current_.bendRangeSemitones) : noteRatio(s.note);
+        const double wanted = noteRatio(slotPitchNow(i));
         const bool pitchMoved = std::abs(wanted / s.ratio - 1.0) > 1e-9;
         const bool due = bendSettled || chunkClock_ % kRetuneChunks == 0;
-        if (dampingDirty_ || (pitchMoved && due))
+        if (dampingDirty_ || slideMoved_[size_t(s.channel)] || (pitchMoved && due))
         {
             s.ratio = wanted;
             retune(i);
         }
     }
     dampingDirty_ = false;
+    slideMoved_.fill(false);
+    if (pressureMoved_)
+    {
+        applyContact();
+        pressureMoved_ = false;
+    }
 }
 
-// One string's chunk, panned and mixed into left/right with the gain ramp from gainStart (and a
-// steal's fade); a stolen string that has faded out starts its pending note, and a string that
-// has decayed to nothing stops sounding.
-void Instrument::renderString(int slot, float* left, float* right, int count, double gainStart)
+// Every string's chunk mixed at the internal rate into the left and right buffers, then decimated
+// once per channel into left/right.
+void Instrument::mixChunk(float* left, float* right, int count, double gainStart)
+{
+    const size_t internal = size_t(count) * size_t(pack_->oversampling);
+    std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + long(internal), 0.0);
+    std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + long(internal), 0.0);
+    for (int i = 0; i < kSlots; ++i)
+        renderString(i, count, gainStart);
+    const int os = pack_->oversampling;
+    for (int n = 0; n < count; ++n)
+    {
+        left[n] += static_cast<float>(pack_->decimators[0].process(pack_->mixLeft.data() + size_t(n) * os));
+        right[n] += static_cast<float>(pack_->decimators[1].process(pack_->mixRight.data() + size_t(n) * os));
+    }
+}
+
+// One string's chunk at the internal rate, panned and added into the mix with the gain ramp from
+// gainStart (and a steal's fade), both stepped per host sample; a stolen string that has faded out
+// starts its pending note, and a string that has decayed to nothing stops sounding.
+void Instrument::renderString(int slot, int count, double gainStart)
 {
     auto& s = slots_[size_t(slot)];
     if (!s.sounding && s.fade < 0)
         return;
     auto& voice = *pack_->voices[size_t(slot)];
-    voice.process(scratch_.data(), count);
+    double* block = pack_->stringBlock.data();
+    voice.processInternal(block, count);
     maxIterations_ = std::max(maxIterations_, voice.takeMaxIterations());
     chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
-    const double panLeft = level * std::sqrt(0.5 * (1.0 - s.pan)), panRight = level * std::sqrt(0.5 * (1.0 + s.pan));
+    const double pan = slot < kMidiVoices ? keyboardPan(slotPitchNow(slot)) : s.pan;
+    const double panLeft = level * std::sqrt(0.5 * (1.0 - pan)), panRight = level * std::sqrt(0.5 * (1.0 + pan));
     const double outputScale = pack_->outputScale;
+    const int os = pack_->oversampling;
     for (int n = 0; n < count; ++n)
     {
         double g = gainStart + (gain_ - gainStart) * (n + 1) / count;
@@ -543,9 +653,12 @@ void Instrument::renderString(int slot, float* left, float* right, int count, do
             if (s.fade > 0)
                 --s.fade;
         }
-        const double y = outputScale * g * scratch_[size_t(n)];
-        left[n] += static_cast<float>(panLeft * y);
-        right[n] += static_cast<float>(panRight * y);
+        const double toLeft = panLeft * outputScale * g, toRight = panRight * outputScale * g;
+        for (int k = n * os; k < (n + 1) * os; ++k)
+        {
+            pack_->mixLeft[size_t(k)] += toLeft * block[k];
+            pack_->mixRight[size_t(k)] += toRight * block[k];
+        }
     }
     if (s.fade == 0)
     {
@@ -566,7 +679,7 @@ void Instrument::startPendingNote(int slot)
     auto& voice = *pack_->voices[size_t(slot)];
     voice.silence();
     s.sounding = false;
-    start(slot, s.pendingNote, s.pendingVelocity);
+    startKey(slot, s.pendingNote, s.pendingVelocity, s.pendingChannel);
     s.pendingNote = -1;
     if (!s.pendingHeld)
     {

@@ -16,6 +16,7 @@
 #include "physics/StringModel.h"
 #include "realtime/Quality.h"
 #include "realtime/SnapshotBuffer.h"
+#include "realtime/Tuning.h"
 #include "realtime/Voice.h"
 
 #include <array>
@@ -85,14 +86,22 @@ struct InstrumentControls
     double qTeInv = DampingParameters{}.qTeInv;    // thermoelastic 1/Q
     std::array<double, kDampingCurvePoints> dampingCurve{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};  // multipliers
     double gainDb = 0.0;
+    // How far the MIDI strings spread across the stereo field by pitch: 0 all in the centre; 1 from
+    // hard left at C3 (48) and below to hard right at C7 (96) and above, C5 (72) in the centre.
+    double stereoWidth = 0.6;
     double bendRangeSemitones = 2.0;
     double tuningA4Hz = 440.0;
+    // The pitch each MIDI key plays (equal temperament, or a Scala scale: Tuning.h); NaN: unmapped.
+    KeyboardPitches keyPitches = equalTemperament();
     // Tanpura drone.
     bool drone = false;
     int droneTonic = 49;     // MIDI note of Sa (C#3)
-    int droneFirst = 0;      // first string: 0 Pa, 1 Ma, 2 Ni, 3 Sa
-    double droneTempo = 60;  // plucks per minute
-    double humanise = 0.2;   // 0..1: timing and strength spread
+    double droneSaHz = 0.0;  // Sa's frequency (Hz) when above 0, instead of droneTonic
+    int droneFirst = 0;      // first string: 0 Pa, 1 Ma, 2 Ni, 3 Sa (DroneFirstString)
+    DroneTuning droneTuning = DroneTuning::just;
+    std::array<double, 4> droneFineCents{0.0, 0.0, 0.0, 0.0};  // each drone string's fine tuning
+    double droneTempo = 60;                                    // plucks per minute
+    double humanise = 0.2;                                     // 0..1: timing and strength spread
     double droneStrength = 0.7;
 };
 
@@ -127,8 +136,15 @@ struct VoicePack
     // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
     // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
     double outputScale = 120.0;
+    // The strings are mixed at the internal rate and decimated once per channel (the decimator is
+    // linear): the two decimators and the chunk's internal-rate buffers (Instrument::kChunk host
+    // samples each).
+    std::vector<Decimator> decimators;  // left, right
+    std::vector<double> mixLeft, mixRight, stringBlock;
+    int oversampling = 1;
 
-    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...).
+    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
+    // and the decimators' history.
     void takeMotionFrom(VoicePack& other);
 };
 
@@ -157,8 +173,17 @@ public:
     void install(VoicePack* pack, VoicePack* previous);
     VoicePack* pack() const { return pack_; }
 
-    void noteOn(int note, double velocity);                                       // RT, velocity 0..1
-    void noteOff(int note);                                                       // RT
+    // RT, velocity 0..1. `channel`: the note's own MIDI channel under MPE (1..16), whose expression
+    // it follows; 0 for none (every note then follows only the instrument's bend).
+    void noteOn(int note, double velocity, int channel = 0);
+    void noteOff(int note, int channel = 0);  // RT
+    // RT: MPE per-note expression for the notes of one channel (1..16): their own bend (semitones),
+    // pressure (0..1: presses their strings' bridge up to kPressureHeightMetres further in, for more
+    // buzz) and slide (0..1, 0.5 neutral: 0 doubles their damping, 1 halves it).
+    void channelBend(int channel, double semitones);
+    void channelPressure(int channel, double amount);
+    void channelSlide(int channel, double amount);
+    static constexpr double kPressureHeightMetres = 0.5e-3;
     void sustain(bool down);                                                      // RT
     void pitchBend(double amount);                                                // RT, -1..1 of the bend range
     void allNotesOff();                                                           // RT: every MIDI string released
@@ -172,8 +197,10 @@ public:
     long blowUps() const;
     int maxIterations() const { return maxIterations_; }  // the most of any step since construction
     long dronePlucks() const { return dronePlucks_; }
-    // The pitch ratio and note a slot plays (tests).
+    // The pitch ratio, pitch and note a slot plays (tests).
     double slotRatio(int slot) const { return slots_[size_t(slot)].ratio; }
+    double slotPitch(int slot) const { return slots_[size_t(slot)].pitch; }
+    int slotChannel(int slot) const { return slots_[size_t(slot)].channel; }
     int slotNote(int slot) const { return slots_[size_t(slot)].note; }
 
     static constexpr int kChunk = 32;
@@ -181,7 +208,9 @@ public:
 private:
     struct Slot
     {
-        int note = -1;
+        int note = -1;       // the key (or the drone string's nearest note)
+        int channel = 0;     // its MPE channel, 0 for none
+        double pitch = 0.0;  // what it plays, a fractional MIDI note (Tuning.h)
         bool held = false, sustained = false, sounding = false;
         uint64_t age = 0;
         double ratio = 1.0;  // the ratio the voice is tuned to
@@ -189,23 +218,38 @@ private:
         // A steal: the string fades out over kFadeSamples, then the pending note starts from rest.
         int fade = -1;
         int pendingNote = -1;
+        int pendingChannel = 0;
         double pendingVelocity = 0.0;
         bool pendingHeld = false, pendingSustained = false;
         double pan = 0.0;  // -1 .. 1
     };
-    void start(int slot, int note, double velocity);
+    void start(int slot, int note, double pitch, double velocity, int channel = 0);
+    void startKey(int slot, int note, double velocity, int channel);  // a MIDI key at its pitch in keyPitches
+    double slotPitchNow(int slot) const;                              // its pitch with the bends that apply to it
+    double slotHeight(int slot) const;                                // its bridge's height with its pressure
+    double keyboardPan(double pitch) const;                           // -1 .. 1: where a MIDI string at a pitch sits
     void retune(int slot);
     double noteRatio(double note) const;
     void applyContact();
+    ContactLaw contactLaw() const;
     void dronePluck(int string);
     void scheduleDrone(int samples);
     void publishSnapshot();
     void smoothControls(int count, double rate);
     void retuneSounding(int count, double rate);
-    void renderString(int slot, float* left, float* right, int count, double gainStart);
+    void mixChunk(float* left, float* right, int count, double gainStart);
+    void renderString(int slot, int count, double gainStart);
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
 
+    // Per-note expression of each MIDI channel (index 1..16; 0 stays neutral).
+    struct Expression
+    {
+        double bend = 0.0, pressure = 0.0, slide = 0.5;
+    };
+    std::array<Expression, 17> channels_{};
+    std::array<bool, 17> slideMoved_{};
+    bool pressureMoved_ = false;
     VoicePack* pack_ = nullptr;
     int fadeLength_ = 1;  // a steal's fade-out, host samples
     std::array<Slot, kSlots> slots_{};
@@ -215,7 +259,7 @@ private:
     bool sustain_ = false;
     uint64_t clock_ = 0;
     double gain_ = 1.0;
-    std::vector<double> scratch_;
+
     bool droneOn_ = false;
     double droneCountdown_ = 0.0;  // host samples to the next drone pluck
     int droneNext_ = 0;
