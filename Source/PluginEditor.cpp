@@ -601,16 +601,13 @@ void JawariEditor::layOutPlaying(juce::Rectangle<int> area)
 void JawariEditor::timerCallback()
 {
     refreshFromProcessor();
-    // The standalone app's computer keyboard plays once its window has the focus (in a host the
-    // keyboard takes the focus when clicked, leaving the host's shortcuts alone until then).
+    // In the standalone app the on-screen keyboard holds the focus whenever the window has it and
+    // nothing else in the editor does, so the computer keyboard plays. (In a host the keyboard takes
+    // the focus when clicked, leaving the host's shortcuts alone until then.)
     const bool standalone = processor_.wrapperType == juce::AudioProcessor::wrapperType_Standalone;
-    // Done once the keyboard still has it a tick later: the window's own focus-in may come after.
-    if (auto* peer = getPeer(); standalone && !keyboardFocused_ && peer != nullptr && peer->isFocused())
-    {
-        keyboardFocused_ = keyboard_.hasKeyboardFocus(false);
-        if (!keyboardFocused_)
-            keyboard_.grabKeyboardFocus();
-    }
+    auto* focused = juce::Component::getCurrentlyFocusedComponent();
+    if (auto* peer = getPeer(); standalone && peer != nullptr && peer->isFocused() && !isParentOf(focused))
+        keyboard_.grabKeyboardFocus();
 }
 
 void JawariEditor::refreshTexts()

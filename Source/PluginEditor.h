@@ -157,7 +157,6 @@ private:
     Keyboard keyboard_;
     juce::TextButton pluck_{"Pluck"};
     int pluckedNote_ = -1;  // the note the Pluck button holds, -1 when up
-    bool keyboardFocused_ = false;
     juce::Array<juce::File> userPresets_;
     std::vector<float> recent_;
     InstrumentSnapshot snapshot_{};
