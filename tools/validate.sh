@@ -6,8 +6,8 @@
 #   pluginval  strictness 10 on the VST3, its editor tests included, under xvfb-run. Only with a
 #              pluginval given: nothing in this project builds one.
 #   lv2info    lilv finds the LV2 bundle (LV2_PATH: the bundle's folder and /usr/lib/lv2 for the
-#              spec bundles) and describes an instrument with its ports, 26 parameters, 5 presets,
-#              the author's mail and homepage.
+#              spec bundles) and describes an instrument with its ports, every parameter of
+#              Source/Parameters.h, 5 presets, the author's mail and homepage.
 #   jalv       jalv runs the LV2 on a dummy JACK server (no sound card): its outputs are silent
 #              for a second with no notes; then jack_midiseq sends A3 (220 Hz) for half a second
 #              every second into its MIDI input, and jack_rec records 3 s of its outputs: the
@@ -51,7 +51,7 @@ check_pluginval() {
 }
 
 check_lv2info() {
-    local info ports presets parameters email homepage class
+    local info ports presets parameters expected email homepage class
     if ! lv2ls | grep -qx "$uri"; then
         report lv2info FAIL "lv2ls does not list $uri"
         return
@@ -61,10 +61,12 @@ check_lv2info() {
     ports=$(grep -c "^\s*Port [0-9]*:" <<< "$info")
     presets=$(sed -n '/^\s*Presets:/,/^\s*$/p' <<< "$info" | grep -vc "Presets:\|^\s*$")
     parameters=$(grep -c "a lv2:Parameter" "$release/LV2/Jawari.lv2/dsp.ttl")
+    # Every parameter of the source's list (kParameterIds) is in the bundle.
+    expected=$(sed -n '/kParameterIds\[\] = {/,/};/p' Source/Parameters.h | grep -o "ids::[A-Za-z0-9_]*" | wc -l)
     email=$(sed -n 's/^\s*Author Email:\s*//p' <<< "$info")
     homepage=$(sed -n 's/^\s*Author Homepage:\s*//p' <<< "$info")
-    local detail="$class, $ports ports, $parameters parameters, $presets presets, $email, $homepage"
-    if [ "$class" = "Instrument Plugin" ] && [ "$ports" -ge 4 ] && [ "$parameters" -eq 26 ] && [ "$presets" -eq 5 ] \
+    local detail="$class, $ports ports, $parameters of $expected parameters, $presets presets, $email, $homepage"
+    if [ "$class" = "Instrument Plugin" ] && [ "$ports" -ge 4 ] && [ "$parameters" -eq "$expected" ] && [ "$presets" -eq 5 ] \
         && [ "$email" = "mailto:dev@jawari.org" ] && [ "$homepage" = "https://jawari.org" ]; then
         report lv2info PASS "$detail"
     else
