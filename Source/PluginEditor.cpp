@@ -432,6 +432,7 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     meter_.setFont(juce::Font(13.0f));
     meter_.setJustificationType(juce::Justification::topLeft);
     setUpPresets();
+    setUpScale();
     for (const auto& row : kPanelRows)
         for (const char* title : row)
         {
@@ -486,6 +487,48 @@ void JawariEditor::setUpPresets()
         refreshPresetList();
     };
     refreshPresetList();
+}
+
+// The keyboard's tuning: a Scala scale (.scl) chosen from a file dialog, with the keyboard map
+// (.kbm) of the same name beside it when there is one; or back to equal temperament.
+void JawariEditor::setUpScale()
+{
+    addAndMakeVisible(scale_);
+    scale_.setTooltip("The keyboard's tuning: equal temperament, or a Scala scale (.scl) with the keyboard map "
+                      "(.kbm) of the same name beside it, kept in the plugin's state.");
+    scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
+    scale_.onClick = [this] {
+        juce::PopupMenu menu;
+        menu.addItem(1, "Load a Scala scale...");
+        menu.addItem(2, "Equal temperament");
+        menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&scale_), [this](int choice) {
+            if (choice == 1)
+                chooseScale();
+            else if (choice == 2)
+            {
+                processor_.setKeyboardTuning({}, {});
+                scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
+            }
+        });
+    };
+}
+
+void JawariEditor::chooseScale()
+{
+    chooser_ = std::make_unique<juce::FileChooser>("A Scala scale", juce::File(), "*.scl");
+    chooser_->launchAsync(juce::FileBrowserComponent::openMode | juce::FileBrowserComponent::canSelectFiles,
+                          [this](const juce::FileChooser& chooser) {
+                              const auto file = chooser.getResult();
+                              if (file == juce::File())
+                                  return;
+                              const auto map = file.withFileExtension("kbm");
+                              const auto error = processor_.setKeyboardTuning(
+                                  file.loadFileAsString(),
+                                  map.existsAsFile() ? map.loadFileAsString() : juce::String());
+                              if (error.isNotEmpty())
+                                  meter_.setText(file.getFileName() + ": " + error, juce::dontSendNotification);
+                              scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
+                          });
 }
 
 void JawariEditor::setUpPlaying()
@@ -553,6 +596,7 @@ void JawariEditor::resized()
     presets_.setBounds(top.removeFromLeft(300).reduced(2));
     presetName_.setBounds(top.removeFromLeft(160).reduced(2));
     savePreset_.setBounds(top.removeFromLeft(110).reduced(2));
+    scale_.setBounds(top.removeFromLeft(260).reduced(2));
     area.removeFromTop(6);
     layOutPlaying(area.removeFromBottom(96));
     area.removeFromBottom(6);

@@ -137,6 +137,8 @@ private:
     void timerCallback() override;
     void refreshTexts();
     void setUpPresets();
+    void setUpScale();
+    void chooseScale();
     void refreshPresetList();
     void setUpPlaying();
     void pluck(bool down);
@@ -153,6 +155,8 @@ private:
     juce::ComboBox presets_;
     juce::TextEditor presetName_;
     juce::TextButton savePreset_{"Save preset"};
+    juce::TextButton scale_;                      // the keyboard's tuning: shows it, opens its menu
+    std::unique_ptr<juce::FileChooser> chooser_;  // alive while the scale's file dialog is open
     std::vector<std::unique_ptr<ControlPanel>> panels_;
     Keyboard keyboard_;
     juce::TextButton pluck_{"Pluck"};

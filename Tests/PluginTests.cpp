@@ -799,6 +799,17 @@ TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one
     INFO("error: " << error);
     CHECK(error.contains("announces 3 pitches but gives 1"));
     CHECK(p.keyboardTuningName() == "5-limit just");
+    // The editor shows the tuning on its scale button (which loads .scl files).
+    {
+        std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
+        REQUIRE(editor != nullptr);
+        bool shown = false;
+        for (auto* child : editor->getChildren())
+            if (auto* button = dynamic_cast<juce::TextButton*>(child))
+                shown = shown || button->getButtonText() == "Scale: 5-limit just";
+        CHECK(shown);
+        p.editorBeingDeleted(editor.get());
+    }
     // Back to equal temperament.
     CHECK(p.setKeyboardTuning({}, {}).isEmpty());
     CHECK(p.keyboardTuningName() == "equal temperament");
