@@ -1,10 +1,12 @@
 #include "Parameters.h"
 
+#include "ParameterText.h"
 #include "physics/ContactMethod.h"
 #include "realtime/Quality.h"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace jawari::plugin
 {
@@ -28,15 +30,63 @@ Range skewed(float lo, float hi, float centre)
     return r;
 }
 
-std::unique_ptr<juce::AudioParameterFloat> number(const char* id, const char* name, Range range, double value,
-                                                  const char* unit, int decimals = 3)
+// How a parameter's value reads as text, with its unit, and how typed text reads back (ParameterText).
+struct Display
 {
-    return std::make_unique<juce::AudioParameterFloat>(
-        juce::ParameterID{id, 1}, name, range, static_cast<float>(value),
-        juce::AudioParameterFloatAttributes().withLabel(unit).withStringFromValueFunction([decimals](float v, int) {
-            // No "-0.0000" for a value that rounds to zero.
-            return juce::String(std::abs(v) < 0.5f * std::pow(10.0f, float(-decimals)) ? 0.0f : v, decimals);
-        }));
+    std::function<juce::String(double)> toText;
+    std::function<double(const juce::String&)> fromText;
+};
+
+// "1.00 mm": a number and its unit.
+Display inUnit(const char* unit, int decimals)
+{
+    const juce::String suffix = *unit == 0 ? juce::String() : " " + juce::String(unit);
+    return {[decimals, suffix](double v) { return text::fixed(v, decimals) + suffix; }, text::leadingNumber};
+}
+
+Display asMultiplier(int decimals)
+{
+    return {[decimals](double v) { return text::multiplier(v, decimals); }, text::leadingNumber};
+}
+
+Display asPercent()
+{
+    return {text::percent, text::parsePercent};
+}
+
+// A point on the string in mm from the bridge end, on the string `string` selects.
+Display asPosition(const juce::AudioParameterChoice& string)
+{
+    auto length = [&string] {
+        return kStringTypes[std::clamp(string.getIndex(), 0, kStringTypeCount - 1)].lengthMetres;
+    };
+    return {[length](double v) { return text::position(v, length()); },
+            [length](const juce::String& t) { return text::parsePosition(t, length()); }};
+}
+
+// A value held in units of `unit` shown as the number itself ("1.38e-4" for 1.38 units of 1e-4).
+// Typed text is that number, or (when that would lie above `largest` units) the held value.
+Display asScientific(double unit, int decimals, double largest)
+{
+    return {[unit, decimals](double v) { return text::scientific(v * unit, decimals); },
+            [unit, largest](const juce::String& t) {
+                const double typed = text::leadingNumber(t);
+                return typed / unit > largest ? typed : typed / unit;
+            }};
+}
+
+std::unique_ptr<juce::AudioParameterFloat> number(const char* id, const char* name, Range range, double value,
+                                                  Display display)
+{
+    auto toText = [f = std::move(display.toText)](float v, int maximumLength) {
+        const auto s = f(v);
+        return maximumLength > 0 ? s.substring(0, maximumLength) : s;
+    };
+    auto fromText = [f = std::move(display.fromText)](const juce::String& t) { return static_cast<float>(f(t)); };
+    return std::make_unique<juce::AudioParameterFloat>(juce::ParameterID{id, 1}, name, range, static_cast<float>(value),
+                                                       juce::AudioParameterFloatAttributes()
+                                                           .withStringFromValueFunction(std::move(toText))
+                                                           .withValueFromStringFunction(std::move(fromText)));
 }
 
 std::unique_ptr<juce::AudioParameterChoice> choice(const char* id, const char* name, const juce::StringArray& choices,
@@ -63,43 +113,54 @@ int contactMethodIndex(ContactMethod method)
     return 0;
 }
 
-// The string, and the obstacle it buzzes against.
-void addStringAndObstacle(Layout& layout)
+// The string, and the obstacle it buzzes against. Returns the string's choice, whose length the
+// positions along it are shown in.
+const juce::AudioParameterChoice& addStringAndObstacle(Layout& layout)
 {
     const auto& s = kStructureDefaults;
     const auto& c = kControlDefaults;
-    layout.add(choice(ids::stringType, "String", namesOf(kStringTypes, [](const StringType& t) { return t.name; }),
-                      s.stringType));
+    auto stringChoice = choice(ids::stringType, "String",
+                               namesOf(kStringTypes, [](const StringType& t) { return t.name; }), s.stringType);
+    const auto& string = *stringChoice;
+    layout.add(std::move(stringChoice));
     layout.add(choice(ids::obstacleShape, "Obstacle shape", juce::StringArray{"point", "parabolic bridge", "frets"},
                       static_cast<int>(s.shape)));
     // A tanpura's bridge near the end of the string by default (the engine's structure defaults to the centre).
-    layout.add(number(ids::obstaclePosition, "Obstacle position", Range(0.005f, 0.995f), 0.006f, "x L", 4));
+    layout.add(number(ids::obstaclePosition, "Obstacle position", Range(0.005f, 0.995f), 0.006f, asPosition(string)));
     layout.add(number(ids::obstacleHeight, "Obstacle height", Range(-5.0f, 1.0f, 0.0001f),
-                      c.obstacleHeight / kMetresPerMillimetre, "mm", 4));
+                      c.obstacleHeight / kMetresPerMillimetre, inUnit("mm", 2)));
+    // The stiffness reads in the unit the exponent gives it, N/m^(1+alpha).
+    auto exponent =
+        number(ids::obstacleExponent, "Obstacle exponent", Range(1.0f, 4.0f, 0.01f), c.exponent, inUnit("", 2));
+    const auto& alpha = *exponent;
     layout.add(number(ids::obstacleStiffness, "Obstacle stiffness", Range(6.0f, 16.0f, 0.01f), std::log10(c.stiffness),
-                      "log10 K", 2));
-    layout.add(number(ids::obstacleExponent, "Obstacle exponent", Range(1.0f, 4.0f, 0.01f), c.exponent, "alpha", 2));
+                      {[&alpha](double v) { return text::stiffness(v, alpha.get()); }, text::parseStiffness}));
+    layout.add(std::move(exponent));
     layout.add(number(ids::obstacleWidth, "Obstacle width", skewed(0.1f, 50.0f, 3.0f),
-                      s.obstacleWidth / kMetresPerMillimetre, "mm", 2));
-    layout.add(number(ids::bridgeCurvature, "Bridge curvature", skewed(0.0f, 100.0f, 5.0f), s.curvature, "1/m", 2));
+                      s.obstacleWidth / kMetresPerMillimetre, inUnit("mm", 2)));
+    layout.add(
+        number(ids::bridgeCurvature, "Bridge curvature", skewed(0.0f, 100.0f, 5.0f), s.curvature, inUnit("/m", 2)));
+    return string;
 }
 
 // Where the string is plucked and heard, and how it loses energy.
-void addPointsAndDamping(Layout& layout)
+void addPointsAndDamping(Layout& layout, const juce::AudioParameterChoice& string)
 {
     const auto& s = kStructureDefaults;
     const auto& c = kControlDefaults;
-    layout.add(number(ids::pluckPosition, "Pluck position", Range(0.02f, 0.98f), s.pluckPosition, "x L", 4));
+    layout.add(number(ids::pluckPosition, "Pluck position", Range(0.02f, 0.98f), s.pluckPosition, asPosition(string)));
     // The paper's pickup, 0.992 m on its 1.002 m string.
-    layout.add(number(ids::pickupPosition, "Pickup position", Range(0.01f, 0.995f), 0.992f / 1.002f, "x L", 4));
-    layout.add(number(ids::decayScale, "Decay scale", skewed(0.1f, 10.0f, 1.0f), c.decayScale, "x", 2));
-    layout.add(number(ids::airDamping, "Air damping", skewed(0.0f, 10.0f, 1.0f), c.airScale, "x", 2));
     layout.add(
-        number(ids::viscoelasticLoss, "Viscoelastic loss", Range(0.0f, 0.05f, 0.0001f), c.deltaVe, "delta_ve", 4));
+        number(ids::pickupPosition, "Pickup position", Range(0.01f, 0.995f), 0.992f / 1.002f, asPosition(string)));
+    layout.add(number(ids::decayScale, "Decay scale", skewed(0.1f, 10.0f, 1.0f), c.decayScale, asMultiplier(2)));
+    layout.add(number(ids::airDamping, "Air damping", skewed(0.0f, 10.0f, 1.0f), c.airScale, asMultiplier(2)));
+    layout.add(
+        number(ids::viscoelasticLoss, "Viscoelastic loss", Range(0.0f, 0.05f, 0.0001f), c.deltaVe, inUnit("", 4)));
     layout.add(number(ids::thermoelasticLoss, "Thermoelastic loss", Range(0.0f, 10.0f, 0.01f),
-                      c.qTeInv / kThermoelasticUnit, "1e-4/Q", 2));
-    layout.add(number(ids::inharmonicity, "Inharmonicity", skewed(0.0f, 1e-3f, 5e-5f), s.inharmonicity, "B", 7));
-    layout.add(number(ids::release, "Release", skewed(0.05f, 5.0f, 0.5f), s.releaseSeconds, "s", 2));
+                      c.qTeInv / kThermoelasticUnit, asScientific(kThermoelasticUnit, 2, 10.0)));
+    layout.add(number(ids::inharmonicity, "Inharmonicity", skewed(0.0f, 1e-3f, 5e-5f), s.inharmonicity,
+                      asScientific(1.0, 2, 1e-3)));
+    layout.add(number(ids::release, "Release", skewed(0.05f, 5.0f, 0.5f), s.releaseSeconds, inUnit("s", 2)));
 }
 
 // How much model runs and how it finds the contact; what comes out.
@@ -112,9 +173,9 @@ void addQualityAndOutput(Layout& layout)
     layout.add(choice(ids::method, "Contact method",
                       namesOf(kContactMethods, [](const ContactMethodName& m) { return m.playerName; }),
                       contactMethodIndex(s.method)));
-    layout.add(number(ids::gain, "Output gain", Range(-48.0f, 12.0f, 0.1f), c.gainDb, "dB", 1));
-    layout.add(
-        number(ids::bendRange, "Pitch bend range", Range(0.0f, 12.0f, 1.0f), c.bendRangeSemitones, "semitones", 0));
+    layout.add(number(ids::gain, "Output gain", Range(-48.0f, 12.0f, 0.1f), c.gainDb, inUnit("dB", 1)));
+    layout.add(number(ids::bendRange, "Pitch bend range", Range(0.0f, 12.0f, 1.0f), c.bendRangeSemitones,
+                      inUnit("semitones", 0)));
 }
 
 // The tanpura drone.
@@ -122,12 +183,16 @@ void addDrone(Layout& layout)
 {
     const auto& c = kControlDefaults;
     layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::drone, 1}, "Drone", c.drone));
-    layout.add(std::make_unique<juce::AudioParameterInt>(juce::ParameterID{ids::droneTonic, 1}, "Drone tonic (Sa)", 36,
-                                                         72, c.droneTonic));
+    layout.add(std::make_unique<juce::AudioParameterInt>(
+        juce::ParameterID{ids::droneTonic, 1}, "Drone tonic (Sa)", 36, 72, c.droneTonic,
+        juce::AudioParameterIntAttributes()
+            .withStringFromValueFunction([](int note, int) { return text::noteName(note); })
+            .withValueFromStringFunction(text::parseNote)));
     layout.add(choice(ids::droneFirst, "First string", juce::StringArray{"Pa", "Ma", "Ni", "Sa"}, c.droneFirst));
-    layout.add(number(ids::droneTempo, "Drone tempo", Range(20.0f, 200.0f, 0.1f), c.droneTempo, "plucks/min", 1));
-    layout.add(number(ids::humanise, "Humanise", Range(0.0f, 1.0f, 0.001f), c.humanise, "", 2));
-    layout.add(number(ids::droneStrength, "Drone strength", Range(0.0f, 1.0f, 0.001f), c.droneStrength, "", 2));
+    layout.add(
+        number(ids::droneTempo, "Drone tempo", Range(20.0f, 200.0f, 0.1f), c.droneTempo, inUnit("plucks/min", 1)));
+    layout.add(number(ids::humanise, "Humanise", Range(0.0f, 1.0f, 0.001f), c.humanise, asPercent()));
+    layout.add(number(ids::droneStrength, "Drone strength", Range(0.0f, 1.0f, 0.001f), c.droneStrength, asPercent()));
 }
 
 // How the drone is tuned.
@@ -136,17 +201,15 @@ void addDroneTuning(Layout& layout)
     const auto& c = kControlDefaults;
     layout.add(choice(ids::droneTuning, "Drone tuning", juce::StringArray{"just", "equal temperament"},
                       static_cast<int>(c.droneTuning)));
-    layout.add(std::make_unique<juce::AudioParameterFloat>(
-        juce::ParameterID{ids::droneSaHz, 1}, "Drone Sa frequency", Range(0.0f, 1000.0f, 0.01f),
-        static_cast<float>(c.droneSaHz),
-        juce::AudioParameterFloatAttributes().withLabel("Hz").withStringFromValueFunction([](float v, int) {
-            return v > 0.0f ? juce::String(v, 2) : juce::String("from the tonic note");  // 0: droneTonic sets Sa
-        })));
+    // 0: the tonic note sets Sa.
+    layout.add(number(ids::droneSaHz, "Drone Sa frequency", Range(0.0f, 1000.0f, 0.01f), c.droneSaHz,
+                      {[](double v) { return v > 0.0 ? text::fixed(v, 2) + " Hz" : juce::String("from Sa note"); },
+                       text::leadingNumber}));
     const char* fine[] = {ids::droneFine1, ids::droneFine2, ids::droneFine3, ids::droneFine4};
     const char* names[] = {"Drone fine tune: first string", "Drone fine tune: Sa", "Drone fine tune: second Sa",
                            "Drone fine tune: low Sa"};
     for (size_t k = 0; k < std::size(fine); ++k)
-        layout.add(number(fine[k], names[k], Range(-50.0f, 50.0f, 0.1f), c.droneFineCents[k], "cents", 1));
+        layout.add(number(fine[k], names[k], Range(-50.0f, 50.0f, 0.1f), c.droneFineCents[k], inUnit("cents", 1)));
 }
 
 // How MIDI is read.
@@ -154,8 +217,8 @@ void addMidi(Layout& layout)
 {
     const MidiSettings m;
     layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::mpe, 1}, "MPE", m.mpe));
-    layout.add(
-        number(ids::mpeBendRange, "MPE note bend range", Range(1.0f, 96.0f, 1.0f), m.mpeBendRange, "semitones", 0));
+    layout.add(number(ids::mpeBendRange, "MPE note bend range", Range(1.0f, 96.0f, 1.0f), m.mpeBendRange,
+                      inUnit("semitones", 0)));
 }
 
 int rounded(float value)
@@ -168,12 +231,14 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
 {
     // In the order of kParameterIds (tested).
     Layout layout;
-    addStringAndObstacle(layout);
-    addPointsAndDamping(layout);
+    const auto& string = addStringAndObstacle(layout);
+    addPointsAndDamping(layout, string);
     addQualityAndOutput(layout);
     addDrone(layout);
     addDroneTuning(layout);
     addMidi(layout);
+    layout.add(
+        number(ids::stereoWidth, "Stereo width", Range(0.0f, 1.0f, 0.01f), kControlDefaults.stereoWidth, asPercent()));
     return layout;
 }
 
@@ -227,6 +292,7 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneStrength = get(ids::droneStrength);
     c.droneTuning = rounded(get(ids::droneTuning)) == 1 ? DroneTuning::equal : DroneTuning::just;
     c.droneSaHz = get(ids::droneSaHz);
+    c.stereoWidth = get(ids::stereoWidth);
     c.droneFineCents = {get(ids::droneFine1), get(ids::droneFine2), get(ids::droneFine3), get(ids::droneFine4)};
     return c;
 }

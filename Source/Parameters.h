@@ -51,6 +51,7 @@ inline constexpr const char* droneFine2 = "droneFine2";
 inline constexpr const char* droneFine3 = "droneFine3";
 inline constexpr const char* droneFine4 = "droneFine4";
 inline constexpr const char* mpe = "mpe";
+inline constexpr const char* stereoWidth = "stereoWidth";
 inline constexpr const char* mpeBendRange = "mpeBendRange";
 }  // namespace ids
 
@@ -88,7 +89,8 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::droneFine3,
                                                 ids::droneFine4,
                                                 ids::mpe,
-                                                ids::mpeBendRange};
+                                                ids::mpeBendRange,
+                                                ids::stereoWidth};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

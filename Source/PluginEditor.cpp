@@ -1,5 +1,6 @@
 #include "PluginEditor.h"
 
+#include "ParameterText.h"
 #include "Presets.h"
 
 #include <cmath>
@@ -15,6 +16,100 @@ const juce::Colour kBackground{0xff15171c}, kPanel{0xff1f232b}, kString{0xfff2c1
 // engine's limits at the edges (reciprocal, so the scale is symmetric).
 static_assert(kDampingCurveMin * kDampingCurveMax == 1.0);
 const float kCurveOctaves = std::log2(static_cast<float>(kDampingCurveMax));
+
+// Every parameter's control: the panel it sits in, its title and what it does physically.
+struct ControlSpec
+{
+    const char* panel;
+    const char* id;
+    const char* title;
+    const char* tooltip;
+};
+const ControlSpec kControls[] = {
+    {"String", ids::stringType, "String",
+     "Which string: its length, mass, diameter, tuning and stiffness. Steel is the paper's 1.002 m string, "
+     "sitar steel 0.90 m, bass E 0.864 m."},
+    {"String", ids::pluckPosition, "Pluck at",
+     "Where the string is plucked, in mm from the bridge end (or type a % of the length). Plucking at 1/n of "
+     "the length leaves out every n-th harmonic; near an end sounds brighter."},
+    {"String", ids::pickupPosition, "Pickup at",
+     "Where the string's motion is heard, in mm from the bridge end (or a %). Harmonics with a node there are "
+     "silent; near an end all are heard."},
+    {"String", ids::inharmonicity, "Inharmonicity",
+     "Bending stiffness B: mode p sounds at p f0 sqrt(1 + B p^2), so the upper partials are stretched sharp. "
+     "0 is a perfectly flexible string."},
+    {"String", ids::release, "Release", "How long a released note takes to fall 60 dB after note-off."},
+    {"Obstacle", ids::obstacleShape, "Shape",
+     "What the string beats against: a point (a tanpura's bridge and thread), a curved parabolic bridge "
+     "(a sitar's jawari) or five frets under the string."},
+    {"Obstacle", ids::obstaclePosition, "Position",
+     "Where the obstacle stands, in mm from the bridge end (or a %). A few mm from the end the string wraps "
+     "over it and buzzes like a tanpura; at the centre it shortens the period (the pitch rises by 4/3)."},
+    {"Obstacle", ids::obstacleHeight, "Height",
+     "The obstacle's top against the string at rest: 0 touches it, above 0 pushes into the string, below 0 "
+     "leaves a gap the string must swing across before it buzzes."},
+    {"Obstacle", ids::obstacleStiffness, "Stiffness",
+     "How hard the obstacle is: K in the contact force K [penetration]^alpha, in N/m^(1+alpha). Harder gives "
+     "a shorter, brighter contact."},
+    {"Obstacle", ids::obstacleExponent, "Exponent",
+     "alpha in the contact force K [penetration]^alpha: 1 is a linear spring; higher is soft at first touch "
+     "and stiff when pressed deep."},
+    {"Obstacle", ids::obstacleWidth, "Width",
+     "How much of the string the obstacle touches: a point's width, a bridge's extent along the string, a "
+     "fret's width."},
+    {"Obstacle", ids::bridgeCurvature, "Curvature",
+     "The parabolic bridge's curvature: how fast its surface falls away from the apex (0 is flat). Only the "
+     "parabolic bridge uses it."},
+    {"Damping", ids::decayScale, "Decay",
+     "Scales every mode's damping: x2 dies away twice as fast, x0.5 rings twice as long."},
+    {"Damping", ids::airDamping, "Air",
+     "Friction of the air on the moving string, times the paper's; it damps the low modes most."},
+    {"Damping", ids::viscoelasticLoss, "Viscoelastic",
+     "The loss angle delta_ve of the string's material: internal friction as it bends, damping the high "
+     "modes most."},
+    {"Damping", ids::thermoelasticLoss, "Thermoelastic",
+     "Thermoelastic loss 1/Q: heat flow as the string bends, the same damping for every mode."},
+    {"Drone", ids::drone, "Drone", "Plays the four-string tanpura drone by itself, its strings plucked in turn."},
+    {"Drone", ids::droneTonic, "Sa", "The tonic Sa the drone's strings are tuned from."},
+    {"Drone", ids::droneFirst, "First string",
+     "The first string's note below Sa: Pa (a fifth), Ma (a fourth), Ni (a major seventh) or Sa."},
+    {"Drone", ids::droneTempo, "Tempo", "Plucks per minute: one beat between plucks, two after the low Sa."},
+    {"Drone", ids::humanise, "Humanise",
+     "Spreads the drone's timing (up to 15 %) and pluck strength (up to 25 %) as a player's hand would."},
+    {"Drone", ids::droneStrength, "Strength", "How hard the drone's strings are plucked."},
+    {"Drone tuning", ids::droneTuning, "Tuning",
+     "How the drone's strings are tuned from Sa: just intervals (Pa 3/4, Ma 2/3, Ni 15/16 below Sa, low Sa 1/2) "
+     "or equal temperament."},
+    {"Drone tuning", ids::droneSaHz, "Sa in Hz", "Sa as a frequency; at 0 the Sa note sets it."},
+    {"Drone tuning", ids::droneFine1, "First", "Fine tune of the first string (Pa, Ma, Ni or Sa)."},
+    {"Drone tuning", ids::droneFine2, "Sa", "Fine tune of the Sa string."},
+    {"Drone tuning", ids::droneFine3, "Second Sa", "Fine tune of the second Sa string."},
+    {"Drone tuning", ids::droneFine4, "Low Sa", "Fine tune of the low Sa string."},
+    {"Output", ids::gain, "Gain", "The output level."},
+    {"Output", ids::bendRange, "Bend range", "How far the pitch wheel bends the strings, each way."},
+    {"Output", ids::stereoWidth, "Width",
+     "How far the strings spread across the stereo field by pitch: 100 % from hard left at C3 to hard right at "
+     "C7, 0 all in the centre."},
+    {"MIDI", ids::mpe, "MPE",
+     "MPE (the lower zone): a note on its own channel 2..16 bends, presses (its bridge up to 0.5 mm further "
+     "in: more buzz) and slides (its damping) by itself; channel 1 moves every note."},
+    {"MIDI", ids::mpeBendRange, "MPE bend", "How far a note's own pitch bend goes under MPE, each way."},
+    {"Quality", ids::quality, "Quality",
+     "How much of the model runs: draft (eight strings and the drone in real time on one core), standard, "
+     "high or paper (the most modes and the highest internal rate)."},
+    {"Quality", ids::method, "Contact",
+     "How the contact force is found each step: energy-conserving (the paper's scheme, never gains energy), "
+     "quadratised (no iteration) or penalty (explicit, cheapest; unstable on hard obstacles)."},
+};
+static_assert(std::size(kControls) == kParameterCount);
+
+// The panels, row by row as the editor lays them out.
+const std::vector<std::vector<const char*>> kPanelRows = {
+    {"String", "Output"}, {"Obstacle"}, {"Damping", "Quality"}, {"Drone"}, {"Drone tuning", "MIDI"}};
+
+// The keyboard's and the Pluck button's velocity, wherever a key is clicked: the paper's 1.5 mm
+// pluck (velocity 100).
+constexpr float kKeyVelocity = 100.0f / 127.0f;
 
 // The curve's range as the editor labels it: "x1/8 .. x8".
 juce::String dampingCurveRangeText()
@@ -196,20 +291,178 @@ void DampingCurveEditor::mouseDoubleClick(const juce::MouseEvent&)
     repaint();
 }
 
+ParameterControl::ParameterControl(juce::AudioProcessorValueTreeState& state, const char* id, const char* title,
+                                   const char* tooltip)
+{
+    title_.setText(title, juce::dontSendNotification);
+    title_.setJustificationType(juce::Justification::centred);
+    title_.setTooltip(tooltip);
+    addAndMakeVisible(title_);
+    auto* parameter = state.getParameter(id);
+    jassert(parameter != nullptr);
+    juce::Component* control = nullptr;
+    if (auto* choice = dynamic_cast<juce::AudioParameterChoice*>(parameter))
+    {
+        box_ = std::make_unique<juce::ComboBox>();
+        box_->addItemList(choice->choices, 1);
+        boxAttachment_ = std::make_unique<Attachments::ComboBoxAttachment>(state, id, *box_);
+        box_->setTooltip(tooltip);
+        control = box_.get();
+    }
+    else if (dynamic_cast<juce::AudioParameterBool*>(parameter) != nullptr)
+    {
+        toggle_ = std::make_unique<juce::ToggleButton>("on");
+        toggleAttachment_ = std::make_unique<Attachments::ButtonAttachment>(state, id, *toggle_);
+        toggle_->setTooltip(tooltip);
+        control = toggle_.get();
+    }
+    else
+    {
+        slider_ =
+            std::make_unique<juce::Slider>(juce::Slider::RotaryHorizontalVerticalDrag, juce::Slider::TextBoxBelow);
+        sliderAttachment_ = std::make_unique<Attachments::SliderAttachment>(state, id, *slider_);
+        // A double-click returns to the default.
+        if (auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(parameter))
+            slider_->setDoubleClickReturnValue(true, ranged->convertFrom0to1(ranged->getDefaultValue()));
+        slider_->setTooltip(tooltip);
+        control = slider_.get();
+    }
+    // Clicking a control leaves the keyboard focus with the on-screen keyboard.
+    control->setMouseClickGrabsKeyboardFocus(false);
+    control->setComponentID(id);
+    addAndMakeVisible(control);
+}
+
+void ParameterControl::resized()
+{
+    auto area = getLocalBounds();
+    title_.setBounds(area.removeFromTop(18));
+    if (slider_ != nullptr)
+    {
+        slider_->setTextBoxStyle(juce::Slider::TextBoxBelow, false, area.getWidth(), 20);
+        slider_->setBounds(area);
+    }
+    const auto middle = area.withSizeKeepingCentre(area.getWidth(), 26);
+    if (box_ != nullptr)
+        box_->setBounds(middle.reduced(2, 0));
+    if (toggle_ != nullptr)
+        toggle_->setBounds(middle.withSizeKeepingCentre(std::min(area.getWidth(), 60), 26));
+}
+
+void ParameterControl::refreshText()
+{
+    if (slider_ != nullptr)
+        slider_->updateText();
+}
+
+void ControlPanel::add(std::unique_ptr<ParameterControl> control)
+{
+    addAndMakeVisible(*control);
+    controls_.push_back(std::move(control));
+}
+
+float ControlPanel::cells() const
+{
+    float sum = 0.0f;
+    for (const auto& c : controls_)
+        sum += c->width();
+    return sum;
+}
+
+void ControlPanel::refreshTexts()
+{
+    for (auto& c : controls_)
+        c->refreshText();
+}
+
+void ControlPanel::paint(juce::Graphics& g)
+{
+    g.setColour(kPanel);
+    g.fillRoundedRectangle(getLocalBounds().toFloat(), 6.0f);
+    g.setColour(kString);
+    g.setFont(juce::Font(13.0f, juce::Font::bold));
+    g.drawText(title_.toUpperCase(), getLocalBounds().reduced(10, 4).removeFromTop(16),
+               juce::Justification::centredLeft);
+}
+
+void ControlPanel::resized()
+{
+    auto area = getLocalBounds().reduced(4);
+    area.removeFromTop(18);
+    const float cell = float(area.getWidth()) / std::max(cells(), 1.0f);
+    for (auto& c : controls_)
+        c->setBounds(area.removeFromLeft(juce::roundToInt(cell * c->width())).reduced(2, 0));
+}
+
+JawariLookAndFeel::JawariLookAndFeel()
+{
+    setColour(juce::Label::textColourId, kText);
+    setColour(juce::Slider::rotarySliderFillColourId, kObstacle);
+    setColour(juce::Slider::thumbColourId, kString);
+    setColour(juce::Slider::textBoxOutlineColourId, juce::Colours::transparentBlack);
+    setColour(juce::TooltipWindow::backgroundColourId, juce::Colour(0xff2b303a));
+    setColour(juce::TooltipWindow::textColourId, kText);
+}
+
+juce::Label* JawariLookAndFeel::createSliderTextBox(juce::Slider& slider)
+{
+    // Values with their units ("1.0e13 N/m^2.3") fit a narrow cell: a smaller font, squeezed if need be.
+    auto* label = LookAndFeel_V4::createSliderTextBox(slider);
+    label->setFont(juce::Font(13.0f));
+    label->setMinimumHorizontalScale(0.7f);
+    return label;
+}
+
 JawariEditor::JawariEditor(JawariAudioProcessor& p)
     : AudioProcessorEditor(p)
     , processor_(p)
     , curve_(p)
+    , keyboard_(p.keyboardState(), juce::MidiKeyboardComponent::horizontalKeyboard)
 {
+    setLookAndFeel(&lookAndFeel_);
     addAndMakeVisible(stringView_);
+    stringView_.setTooltip("The sounding strings and the obstacle (blue), drawn live; the height is scaled to "
+                           "the motion.");
     addAndMakeVisible(spectrum_);
+    spectrum_.setTooltip("The output's spectrum.");
     addAndMakeVisible(curve_);
+    curve_.setTooltip("Per-mode damping: multiplies each mode's damping by the curve at its frequency. Drag a "
+                      "point; a double-click resets the curve flat.");
     addAndMakeVisible(meter_);
-    meter_.setColour(juce::Label::textColourId, kText);
     meter_.setFont(juce::Font(13.0f));
     meter_.setJustificationType(juce::Justification::topLeft);
+    setUpPresets();
+    setUpScale();
+    for (const auto& row : kPanelRows)
+        for (const char* title : row)
+        {
+            auto panel = std::make_unique<ControlPanel>(title);
+            for (const auto& c : kControls)
+                if (juce::String(c.panel) == title)
+                    panel->add(std::make_unique<ParameterControl>(processor_.parameters(), c.id, c.title, c.tooltip));
+            addAndMakeVisible(*panel);
+            panels_.push_back(std::move(panel));
+        }
+    setUpPlaying();
+    refreshTexts();
 
+    setResizable(true, true);
+    setResizeLimits(1000, 760, 2400, 1600);
+    setSize(1240, 900);
+    startTimerHz(30);
+}
+
+JawariEditor::~JawariEditor()
+{
+    stopTimer();
+    pluck(false);
+    setLookAndFeel(nullptr);
+}
+
+void JawariEditor::setUpPresets()
+{
     addAndMakeVisible(presets_);
+    presets_.setTooltip("Factory presets, then yours (saved with the name on the right).");
     presets_.onChange = [this] {
         const int id = presets_.getSelectedId();
         const int factory = static_cast<int>(factoryPresets().size());
@@ -226,6 +479,7 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     addAndMakeVisible(presetName_);
     presetName_.setTextToShowWhenEmpty("preset name", juce::Colours::grey);
     addAndMakeVisible(savePreset_);
+    savePreset_.setTooltip("Saves every parameter and the damping curve as a user preset.");
     savePreset_.onClick = [this] {
         const auto result = processor_.saveUserPreset(presetName_.getText());
         meter_.setText(result.wasOk() ? "saved " + presetName_.getText() : result.getErrorMessage(),
@@ -233,78 +487,82 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
         refreshPresetList();
     };
     refreshPresetList();
-
-    addAndMakeVisible(drone_);
-    droneAttachment_ = std::make_unique<juce::AudioProcessorValueTreeState::ButtonAttachment>(processor_.parameters(),
-                                                                                              ids::drone, drone_);
-    addChoice(ids::stringType, "String");
-    addChoice(ids::obstacleShape, "Obstacle");
-    addChoice(ids::quality, "Quality");
-    addChoice(ids::method, "Method");
-    addChoice(ids::droneFirst, "First string");
-    for (const auto& [id, title] :
-         std::vector<std::pair<const char*, const char*>>{{ids::obstaclePosition, "Position"},
-                                                          {ids::obstacleHeight, "Height mm"},
-                                                          {ids::obstacleStiffness, "log10 K"},
-                                                          {ids::obstacleExponent, "Exponent"},
-                                                          {ids::obstacleWidth, "Width mm"},
-                                                          {ids::bridgeCurvature, "Curvature"},
-                                                          {ids::pluckPosition, "Pluck at"},
-                                                          {ids::pickupPosition, "Pickup at"},
-                                                          {ids::inharmonicity, "Inharmonicity"},
-                                                          {ids::release, "Release s"},
-                                                          {ids::decayScale, "Decay x"},
-                                                          {ids::airDamping, "Air x"},
-                                                          {ids::viscoelasticLoss, "Visco"},
-                                                          {ids::thermoelasticLoss, "Thermo"},
-                                                          {ids::gain, "Gain dB"},
-                                                          {ids::bendRange, "Bend st"},
-                                                          {ids::droneTonic, "Sa (MIDI)"},
-                                                          {ids::droneTempo, "Tempo"},
-                                                          {ids::humanise, "Humanise"},
-                                                          {ids::droneStrength, "Drone strength"}})
-        addKnob(id, title);
-
-    constrainer_.setMinimumSize(860, 600);
-    setResizable(true, true);
-    setResizeLimits(860, 600, 2400, 1600);
-    setSize(1100, 720);
-    startTimerHz(30);
 }
 
-JawariEditor::~JawariEditor()
+// The keyboard's tuning: a Scala scale (.scl) chosen from a file dialog, with the keyboard map
+// (.kbm) of the same name beside it when there is one; or back to equal temperament.
+void JawariEditor::setUpScale()
 {
-    stopTimer();
+    addAndMakeVisible(scale_);
+    scale_.setTooltip("The keyboard's tuning: equal temperament, or a Scala scale (.scl) with the keyboard map "
+                      "(.kbm) of the same name beside it, kept in the plugin's state.");
+    scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
+    scale_.onClick = [this] {
+        juce::PopupMenu menu;
+        menu.addItem(1, "Load a Scala scale...");
+        menu.addItem(2, "Equal temperament");
+        menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&scale_), [this](int choice) {
+            if (choice == 1)
+                chooseScale();
+            else if (choice == 2)
+            {
+                processor_.setKeyboardTuning({}, {});
+                scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
+            }
+        });
+    };
 }
 
-void JawariEditor::addKnob(const char* id, const char* title)
+void JawariEditor::chooseScale()
 {
-    Knob k;
-    k.slider = std::make_unique<juce::Slider>(juce::Slider::RotaryHorizontalVerticalDrag, juce::Slider::TextBoxBelow);
-    k.slider->setTextBoxStyle(juce::Slider::TextBoxBelow, false, 80, 18);
-    k.label = std::make_unique<juce::Label>(juce::String(), title);
-    k.label->setJustificationType(juce::Justification::centred);
-    k.label->setColour(juce::Label::textColourId, kText);
-    k.attachment =
-        std::make_unique<juce::AudioProcessorValueTreeState::SliderAttachment>(processor_.parameters(), id, *k.slider);
-    addAndMakeVisible(*k.slider);
-    addAndMakeVisible(*k.label);
-    knobs_.push_back(std::move(k));
+    chooser_ = std::make_unique<juce::FileChooser>("A Scala scale", juce::File(), "*.scl");
+    chooser_->launchAsync(juce::FileBrowserComponent::openMode | juce::FileBrowserComponent::canSelectFiles,
+                          [this](const juce::FileChooser& chooser) {
+                              const auto file = chooser.getResult();
+                              if (file == juce::File())
+                                  return;
+                              const auto map = file.withFileExtension("kbm");
+                              const auto error = processor_.setKeyboardTuning(
+                                  file.loadFileAsString(),
+                                  map.existsAsFile() ? map.loadFileAsString() : juce::String());
+                              if (error.isNotEmpty())
+                                  meter_.setText(file.getFileName() + ": " + error, juce::dontSendNotification);
+                              scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
+                          });
 }
 
-void JawariEditor::addChoice(const char* id, const char* title)
+void JawariEditor::setUpPlaying()
 {
-    Choice c;
-    c.box = std::make_unique<juce::ComboBox>();
-    if (auto* choice = dynamic_cast<juce::AudioParameterChoice*>(processor_.parameters().getParameter(id)))
-        c.box->addItemList(choice->choices, 1);
-    c.label = std::make_unique<juce::Label>(juce::String(), title);
-    c.label->setColour(juce::Label::textColourId, kText);
-    c.attachment =
-        std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(processor_.parameters(), id, *c.box);
-    addAndMakeVisible(*c.box);
-    addAndMakeVisible(*c.label);
-    choices_.push_back(std::move(c));
+    // C1 to C7 on screen; the computer keyboard's row A S D F ... plays C3 to E4.
+    keyboard_.setAvailableRange(24, 96);
+    keyboard_.setOctaveForMiddleC(4);
+    keyboard_.setKeyPressBaseOctave(4);
+    keyboard_.setVelocity(kKeyVelocity, false);
+    keyboard_.setScrollButtonsVisible(false);
+    keyboard_.setWantsKeyboardFocus(true);
+    keyboard_.setTooltip("Click to play, or type on the computer keyboard: A W S E D F T G Y H U J K O L P ; "
+                         "play C3 to E4.");
+    addAndMakeVisible(keyboard_);
+    pluck_.setComponentID("pluck");
+    pluck_.setMouseClickGrabsKeyboardFocus(false);
+    pluck_.setTooltip("Plucks the drone's tonic Sa while held, the paper's 1.5 mm pluck.");
+    pluck_.onStateChange = [this] { pluck(pluck_.isDown()); };
+    addAndMakeVisible(pluck_);
+}
+
+void JawariEditor::pluck(bool down)
+{
+    auto& keys = processor_.keyboardState();
+    if (down && pluckedNote_ < 0)
+    {
+        pluckedNote_ = juce::roundToInt(processor_.parameters().getRawParameterValue(ids::droneTonic)->load());
+        keys.noteOn(1, pluckedNote_, kKeyVelocity);
+    }
+    else if (!down && pluckedNote_ >= 0)
+    {
+        keys.noteOff(1, pluckedNote_, 0.0f);
+        pluckedNote_ = -1;
+    }
 }
 
 void JawariEditor::refreshPresetList()
@@ -335,43 +593,78 @@ void JawariEditor::resized()
     auto area = getLocalBounds().reduced(8);
     auto top = area.removeFromTop(32);
     top.removeFromLeft(120);
-    presets_.setBounds(top.removeFromLeft(260).reduced(2));
+    presets_.setBounds(top.removeFromLeft(300).reduced(2));
     presetName_.setBounds(top.removeFromLeft(160).reduced(2));
     savePreset_.setBounds(top.removeFromLeft(110).reduced(2));
-    drone_.setBounds(top.removeFromLeft(140).reduced(2));
+    scale_.setBounds(top.removeFromLeft(260).reduced(2));
     area.removeFromTop(6);
+    layOutPlaying(area.removeFromBottom(96));
+    area.removeFromBottom(6);
 
-    auto left = area.removeFromLeft(area.getWidth() * 11 / 20);
+    auto left = area.removeFromLeft(area.getWidth() * 2 / 5);
     stringView_.setBounds(left.removeFromTop(left.getHeight() * 36 / 100).reduced(3));
-    meter_.setBounds(left.removeFromTop(48).reduced(3));
+    meter_.setBounds(left.removeFromTop(40).reduced(3));
     spectrum_.setBounds(left.removeFromTop(left.getHeight() / 2).reduced(3));
     curve_.setBounds(left.reduced(3));
+    layOutPanels(area.withTrimmedLeft(4));
+}
 
-    auto right = area.reduced(4, 0);
-    auto choiceRow = right.removeFromTop(52);
-    const int choiceWidth = choiceRow.getWidth() / int(choices_.size());
-    for (auto& c : choices_)
+void JawariEditor::layOutPanels(juce::Rectangle<int> area)
+{
+    // Rows of equal height; in a row each panel's width is in proportion to its controls.
+    const int rowHeight = area.getHeight() / int(kPanelRows.size());
+    size_t next = 0;
+    for (const auto& row : kPanelRows)
     {
-        auto cell = choiceRow.removeFromLeft(choiceWidth).reduced(2);
-        c.label->setBounds(cell.removeFromTop(20));
-        c.box->setBounds(cell.removeFromTop(26));
+        auto rowArea = area.removeFromTop(rowHeight);
+        float cells = 0.0f;
+        for (size_t i = 0; i < row.size(); ++i)
+            cells += panels_[next + i]->cells();
+        const float cell = float(rowArea.getWidth()) / cells;
+        for (size_t i = 0; i < row.size(); ++i, ++next)
+        {
+            const int width =
+                i + 1 == row.size() ? rowArea.getWidth() : juce::roundToInt(cell * panels_[next]->cells());
+            panels_[next]->setBounds(rowArea.removeFromLeft(width).reduced(3));
+        }
     }
-    const int columns = 5;
-    const int rows = (int(knobs_.size()) + columns - 1) / columns;
-    const int cellWidth = right.getWidth() / columns, cellHeight = right.getHeight() / std::max(rows, 1);
-    for (size_t i = 0; i < knobs_.size(); ++i)
-    {
-        const int row = int(i) / columns, column = int(i) % columns;
-        auto cell = juce::Rectangle<int>(right.getX() + column * cellWidth, right.getY() + row * cellHeight, cellWidth,
-                                         cellHeight)
-                        .reduced(2);
-        knobs_[i].label->setBounds(cell.removeFromTop(18));
-        knobs_[i].slider->setBounds(cell);
-    }
+}
+
+void JawariEditor::layOutPlaying(juce::Rectangle<int> area)
+{
+    pluck_.setBounds(area.removeFromLeft(110).reduced(3, 20));
+    area.removeFromLeft(6);
+    keyboard_.setBounds(area);
+    // Every key of the range fits the width.
+    int whiteKeys = 0;
+    for (int note = keyboard_.getRangeStart(); note <= keyboard_.getRangeEnd(); ++note)
+        whiteKeys += juce::MidiMessage::isMidiNoteBlack(note) ? 0 : 1;
+    keyboard_.setKeyWidth(float(area.getWidth()) / float(std::max(whiteKeys, 1)));
+}
+
+void JawariEditor::timerCallback()
+{
+    refreshFromProcessor();
+    // In the standalone app the on-screen keyboard holds the focus whenever the window has it and
+    // nothing else in the editor does, so the computer keyboard plays. (In a host the keyboard takes
+    // the focus when clicked, leaving the host's shortcuts alone until then.)
+    const bool standalone = processor_.wrapperType == juce::AudioProcessor::wrapperType_Standalone;
+    auto* focused = juce::Component::getCurrentlyFocusedComponent();
+    if (auto* peer = getPeer(); standalone && peer != nullptr && peer->isFocused() && !isParentOf(focused))
+        keyboard_.grabKeyboardFocus();
+}
+
+void JawariEditor::refreshTexts()
+{
+    for (auto& panel : panels_)
+        panel->refreshTexts();
+    const int tonic = juce::roundToInt(processor_.parameters().getRawParameterValue(ids::droneTonic)->load());
+    pluck_.setButtonText("Pluck " + text::noteName(tonic));
 }
 
 void JawariEditor::refreshFromProcessor()
 {
+    refreshTexts();
     if (processor_.instrument().snapshots().read(snapshot_))
         stringView_.setSnapshot(snapshot_);
     recent_.resize(4096);

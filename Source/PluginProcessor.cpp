@@ -104,6 +104,7 @@ void JawariAudioProcessor::installNow(std::unique_ptr<VoicePack> pack)
 void JawariAudioProcessor::prepareToPlay(double sampleRate, int)
 {
     builder_->stopThread(10000);
+    keyboard_.drain([](const KeyboardInput::Event&) {});  // keys pressed while audio was stopped
     hostRate_.store(sampleRate);
     const auto s = reader_.structure(sampleRate);
     installNow(buildVoicePack(s));
@@ -170,6 +171,12 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
             position += count;
         }
     };
+    keyboard_.drain([this](const KeyboardInput::Event& e) {
+        if (e.on)
+            instrument_.noteOn(e.note, e.velocity);
+        else
+            instrument_.noteOff(e.note);
+    });
     const MidiSettings settings = reader_.midi();
     for (const auto metadata : midi)
     {

@@ -4,8 +4,11 @@
 // Threads: processBlock is the audio thread (no allocation, locks, logging or I/O: tested). A
 // builder thread watches the structural parameters (string, obstacle shape and position, pluck and
 // pickup points, inharmonicity, quality, method, release) and builds a new VoicePack for them,
-// handed to the audio thread through LockFreeExchange and freed back on the builder thread.
+// handed to the audio thread through LockFreeExchange and freed back on the builder thread. Notes
+// played in the editor reach processBlock through KeyboardInput's lock-free queue and sound at the
+// start of the next block.
 
+#include "KeyboardInput.h"
 #include "Parameters.h"
 #include "realtime/Instrument.h"
 #include "realtime/LockFreeExchange.h"
@@ -77,6 +80,8 @@ public:
     juce::String keyboardTuningName() const;  // the scale's description, or "equal temperament"
 
     juce::AudioProcessorValueTreeState& parameters() { return parameters_; }
+    // CT: the editor's keyboard. Its notes are played at the start of the next block.
+    juce::MidiKeyboardState& keyboardState() { return keyboard_.state(); }
     Instrument& instrument() { return instrument_; }
     // The output for the editor's spectrum: the newest samples, lock-free. CT reads.
     int readRecentOutput(float* dest, int count);
@@ -103,6 +108,7 @@ private:
     juce::String scaleText_, keyboardMapText_, scaleName_;
     std::array<std::atomic<double>, kMidiNotes> keyPitches_;
     Instrument instrument_;
+    KeyboardInput keyboard_;
     LockFreeExchange<VoicePack> exchange_;
     std::unique_ptr<Builder> builder_;
     std::atomic<double> hostRate_{0.0};

@@ -293,3 +293,34 @@ TEST_CASE("MPE: one note bends on its own channel while another holds its pitch;
     play(instrument, 3.0);
     CHECK(instrument.activeStrings() == 1);
 }
+
+TEST_CASE("The MIDI strings spread across the stereo field by pitch, and width 0 is mono", "[instrument]")
+{
+    // Renders one note and returns the level of the right channel over the left.
+    auto rightOverLeft = [](int note, double width) {
+        auto pack = buildVoicePack(freeStructure());
+        Instrument instrument;
+        auto c = freeControls();
+        c.stereoWidth = width;
+        instrument.setControls(c);
+        instrument.install(pack.get(), nullptr);
+        instrument.noteOn(note, 0.8);
+        std::vector<float> l(4800), r(4800);
+        instrument.render(l.data(), r.data(), 4800);
+        double left = 0.0, right = 0.0;
+        for (size_t n = 0; n < l.size(); ++n)
+        {
+            left += double(l[n]) * l[n];
+            right += double(r[n]) * r[n];
+        }
+        return std::sqrt(right / left);
+    };
+    // Equal power: a pan p gives right/left = sqrt((1 + p) / (1 - p)).
+    const double low = rightOverLeft(48, 1.0), high = rightOverLeft(96, 1.0), middle = rightOverLeft(60, 0.6);
+    INFO("right/left: C3 " << low << ", C7 " << high << ", C4 at width 0.6 " << middle);
+    CHECK(low < 1e-6);                                            // hard left
+    CHECK(high > 1e6);                                            // hard right
+    CHECK(middle == Approx(std::sqrt(0.7 / 1.3)).epsilon(1e-6));  // pan -0.3
+    CHECK(rightOverLeft(48, 0.0) == Approx(1.0).epsilon(1e-12));  // mono
+    CHECK(rightOverLeft(90, 0.0) == Approx(1.0).epsilon(1e-12));
+}

@@ -44,9 +44,9 @@ float parameterValue(JawariAudioProcessor& p, const char* id)
     return p.parameters().getRawParameterValue(id)->load();
 }
 
-// Renders `seconds` with one note held from the start; returns the left channel.
-std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, double seconds, int note = 55,
-                               juce::uint8 velocity = 100)
+// Renders `seconds` with `first` in the first block (an empty buffer after); returns the left channel.
+std::vector<double> render(JawariAudioProcessor& p, double rate, int block, double seconds,
+                           const juce::MidiBuffer& first = {})
 {
     juce::AudioBuffer<float> buffer(2, block);
     std::vector<double> out;
@@ -55,13 +55,22 @@ std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, 
     {
         juce::MidiBuffer midi;
         if (n == 0)
-            midi.addEvent(juce::MidiMessage::noteOn(1, note, velocity), 0);
+            midi = first;
         buffer.clear();
         p.processBlock(buffer, midi);
         for (int i = 0; i < block && n + i < total; ++i)
             out.push_back(buffer.getSample(0, i));
     }
     return out;
+}
+
+// Renders `seconds` with one note held from the start; returns the left channel.
+std::vector<double> renderNote(JawariAudioProcessor& p, double rate, int block, double seconds, int note = 55,
+                               juce::uint8 velocity = 100)
+{
+    juce::MidiBuffer midi;
+    midi.addEvent(juce::MidiMessage::noteOn(1, note, velocity), 0);
+    return render(p, rate, block, seconds, midi);
 }
 
 double peakOf(const std::vector<double>& y)
@@ -100,7 +109,8 @@ TEST_CASE("Headless render of the paper presets matches the reference solver", "
         JawariAudioProcessor p;
         p.setCurrentProgram(factoryPresetIndex(c.preset));
         setParameter(p, ids::drone, 0.0f);
-        setParameter(p, ids::quality, 1.0f);  // standard
+        setParameter(p, ids::quality, 1.0f);      // standard
+        setParameter(p, ids::stereoWidth, 0.0f);  // the string in the centre, as the scale below assumes
         const double rate = 48000.0;
         p.prepareToPlay(rate, 512);
         const auto y = renderNote(p, rate, 512, 1.2, 55, 100);
@@ -249,7 +259,8 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::droneFine3, 0.0f},
                                                       {ids::droneFine4, 0.0f},
                                                       {ids::mpe, 0.0f},
-                                                      {ids::mpeBendRange, 48.0f}};
+                                                      {ids::mpeBendRange, 48.0f},
+                                                      {ids::stereoWidth, 0.6f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -260,10 +271,57 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
         auto* param = p.parameters().getParameter(id);
         return param->getText(param->getDefaultValue(), 100);
     };
-    CHECK(defaultText(ids::obstacleStiffness) == "13.00");
+    CHECK(defaultText(ids::obstacleStiffness) == "1.0e13 N/m^2.3");
     CHECK(defaultText(ids::viscoelasticLoss) == "0.0060");
-    CHECK(defaultText(ids::thermoelasticLoss) == "1.38");
-    CHECK(defaultText(ids::obstacleWidth) == "1.00");
+    CHECK(defaultText(ids::thermoelasticLoss) == "1.38e-4");
+    CHECK(defaultText(ids::obstacleWidth) == "1.00 mm");
+}
+
+TEST_CASE("Parameter values read in a player's units and typed text reads back", "[plugin]")
+{
+    JawariAudioProcessor p;
+    auto textOf = [&](const char* id, float value) {
+        auto* param = p.parameters().getParameter(id);
+        return param->getText(param->convertTo0to1(value), 100);
+    };
+    auto valueOf = [&](const char* id, const juce::String& typed) {
+        auto* param = p.parameters().getParameter(id);
+        return param->convertFrom0to1(param->getValueForText(typed));
+    };
+    // Positions in mm from the bridge end of the string chosen: 1.002 m steel, 0.864 m bass E.
+    CHECK(textOf(ids::obstaclePosition, 0.006f) == "6.0 mm");
+    CHECK(textOf(ids::pluckPosition, 0.5f) == "501 mm");
+    CHECK(textOf(ids::pickupPosition, 0.992f / 1.002f) == "992 mm");
+    CHECK(valueOf(ids::obstaclePosition, "12 mm") == Approx(0.012 / 1.002));
+    CHECK(valueOf(ids::pluckPosition, "25 %") == Approx(0.25));
+    setParameter(p, ids::stringType, 2.0f);
+    CHECK(textOf(ids::obstaclePosition, 0.006f) == "5.2 mm");
+    setParameter(p, ids::stringType, 0.0f);
+    // The stiffness as K in the unit its exponent gives it; K or log10 K typed.
+    CHECK(textOf(ids::obstacleStiffness, 12.5f) == "3.2e12 N/m^2.3");
+    setParameter(p, ids::obstacleExponent, 2.0f);
+    CHECK(textOf(ids::obstacleStiffness, 13.0f) == "1.0e13 N/m^3");
+    CHECK(valueOf(ids::obstacleStiffness, "1e11") == Approx(11.0f));
+    CHECK(valueOf(ids::obstacleStiffness, "11.5") == Approx(11.5f));
+    // No "-0.00" for a height that rounds to zero; heights, losses and notes in their units.
+    CHECK(textOf(ids::obstacleHeight, -0.00001f) == "0.00 mm");
+    CHECK(textOf(ids::obstacleHeight, -0.25f) == "-0.25 mm");
+    CHECK(textOf(ids::inharmonicity, 1.78e-5f) == "1.78e-5");
+    CHECK(valueOf(ids::thermoelasticLoss, "2.5e-4") == Approx(2.5f));
+    CHECK(textOf(ids::droneTonic, 49.0f) == "C#3");
+    CHECK(valueOf(ids::droneTonic, "C4") == Approx(60.0f));
+    CHECK(textOf(ids::humanise, 0.2f) == "20 %");
+    CHECK(textOf(ids::decayScale, 2.0f) == "x2.00");
+    CHECK(textOf(ids::gain, -6.0f) == "-6.0 dB");
+    // Any value's text reads back to a value with the same text.
+    for (auto* param : p.getParameters())
+        for (const float normalised : {0.0f, 0.13f, 0.5f, 0.77f, 1.0f})
+        {
+            const auto shown = param->getText(normalised, 100);
+            INFO(param->getName(100) << " at " << normalised << ": " << shown);
+            CHECK(shown.isNotEmpty());
+            CHECK(param->getText(param->getValueForText(shown), 100) == shown);
+        }
 }
 
 TEST_CASE("ParameterReader reads each parameter into its own engine field", "[plugin]")
@@ -302,7 +360,8 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::droneFine3, 2.5f},
                                                     {ids::droneFine4, -12.0f},
                                                     {ids::mpe, 1.0f},
-                                                    {ids::mpeBendRange, 24.0f}};
+                                                    {ids::mpeBendRange, 24.0f},
+                                                    {ids::stereoWidth, 0.25f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -350,6 +409,7 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(c.droneFineCents[3] == Approx(-12.0).epsilon(1e-4));
     CHECK(reader.midi().mpe);
     CHECK(reader.midi().mpeBendRange == Approx(24.0));
+    CHECK(c.stereoWidth == Approx(0.25).epsilon(1e-4));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
@@ -421,7 +481,7 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
         }
 }
 
-TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack", "[plugin]")
+TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack", "[plugin]")
 {
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
@@ -434,10 +494,21 @@ TEST_CASE("processBlock never allocates: notes, bends, automation and a new pack
     REQUIRE(p.waitForBuilds());
     const long before = p.packsInstalled();
     long counted = 0;
+    // Keys pressed on the editor's keyboard between blocks (the message thread's work, not counted).
+    auto pressKey = [&](int note, bool down) {
+        test::countAllocationsOnThisThread(false);
+        if (down)
+            p.keyboardState().noteOn(1, note, 0.8f);
+        else
+            p.keyboardState().noteOff(1, note, 0.0f);
+        test::countAllocationsOnThisThread(true);
+    };
     {
         test::CountAllocations guard;
         for (int b = 0; b < 200; ++b)
         {
+            if (b % 10 == 5)
+                pressKey(60 + (b / 20) % 12, b % 20 == 5);
             midi.clear();
             if (b < 12)
                 midi.addEvent(juce::MidiMessage::noteOn(1, 48 + b, juce::uint8(100)), b * 13);
@@ -665,6 +736,97 @@ TEST_CASE("The editor opens without a window and draws the sounding string", "[p
     p.editorBeingDeleted(editor.get());
 }
 
+namespace
+{
+// The editor's descendant whose component ID is `id`, or null.
+juce::Component* findById(juce::Component& root, const juce::String& id)
+{
+    if (root.getComponentID() == id)
+        return &root;
+    for (auto* child : root.getChildren())
+        if (auto* found = findById(*child, id))
+            return found;
+    return nullptr;
+}
+
+template <typename T>
+T* findOfType(juce::Component& root)
+{
+    if (auto* found = dynamic_cast<T*>(&root))
+        return found;
+    for (auto* child : root.getChildren())
+        if (auto* found = findOfType<T>(*child))
+            return found;
+    return nullptr;
+}
+
+juce::String tooltipOf(juce::Component* c)
+{
+    auto* client = dynamic_cast<juce::TooltipClient*>(c);
+    return client != nullptr ? client->getTooltip() : juce::String();
+}
+}  // namespace
+
+TEST_CASE("Every parameter has a control in the editor with a tooltip, and a keyboard and Pluck button play",
+          "[plugin]")
+{
+    JawariAudioProcessor p;
+    std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
+    REQUIRE(editor != nullptr);
+    for (const char* id : kParameterIds)
+    {
+        INFO(id);
+        auto* control = findById(*editor, id);
+        REQUIRE(control != nullptr);
+        CHECK(control->isVisible());
+        CHECK(control->getWidth() > 20);
+        CHECK(tooltipOf(control).length() > 10);
+    }
+    auto* keyboard = findOfType<juce::MidiKeyboardComponent>(*editor);
+    REQUIRE(keyboard != nullptr);
+    CHECK(keyboard->getWidth() > 500);
+    CHECK(tooltipOf(keyboard).isNotEmpty());
+    auto* pluck = dynamic_cast<juce::Button*>(findById(*editor, "pluck"));
+    REQUIRE(pluck != nullptr);
+    CHECK(pluck->getButtonText() == "Pluck C#3");
+    CHECK(tooltipOf(pluck).isNotEmpty());
+
+    // The Pluck button holds the drone's tonic while it is down.
+    const int tonic = 49;
+    p.prepareToPlay(48000.0, 512);
+    pluck->setState(juce::Button::buttonDown);
+    CHECK(p.keyboardState().isNoteOn(1, tonic));
+    const auto y = render(p, 48000.0, 512, 0.5);
+    CHECK(peakOf(y) > 1e-3);
+    const double f0 = 440.0 * std::pow(2.0, (tonic - 69) / 12.0);
+    // The tonic and not a neighbour (a semitone is 6 %); the default bridge, 6 mm from the end,
+    // raises this low string a little (0.3 %).
+    CHECK(peakFrequency(y, 48000.0, 0.9 * f0, 1.1 * f0, 4800) == Approx(f0).epsilon(1e-2));
+    pluck->setState(juce::Button::buttonNormal);
+    CHECK_FALSE(p.keyboardState().isNoteOn(1, tonic));
+    p.editorBeingDeleted(editor.get());
+}
+
+TEST_CASE("A note pressed on the keyboard state sounds in tune and stops on release", "[plugin]")
+{
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);
+    p.prepareToPlay(48000.0, 256);
+    CHECK(peakOf(render(p, 48000.0, 256, 0.1)) == 0.0);
+    p.keyboardState().noteOn(1, 69, 100.0f / 127.0f);
+    const auto held = render(p, 48000.0, 256, 0.6);
+    CHECK(peakOf(held) > 1e-3);
+    CHECK(peakOf(held) <= 1.0);
+    const double f = peakFrequency(held, 48000.0, 400.0, 480.0, 4800);
+    INFO("f0 " << f);
+    CHECK(std::abs(f / 440.0 - 1.0) < 2e-3);
+    // Released: the default 0.4 s release takes it 60 dB down; after 1.5 s it is far below.
+    p.keyboardState().noteOff(1, 69, 0.0f);
+    const auto released = render(p, 48000.0, 256, 1.5);
+    const std::vector<double> tail(released.end() - 4800, released.end());
+    CHECK(peakOf(tail) < 1e-3 * peakOf(held));
+}
+
 TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one is refused", "[plugin]")
 {
     const juce::String justScale =
@@ -694,6 +856,17 @@ TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one
     INFO("error: " << error);
     CHECK(error.contains("announces 3 pitches but gives 1"));
     CHECK(p.keyboardTuningName() == "5-limit just");
+    // The editor shows the tuning on its scale button (which loads .scl files).
+    {
+        std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
+        REQUIRE(editor != nullptr);
+        bool shown = false;
+        for (auto* child : editor->getChildren())
+            if (auto* button = dynamic_cast<juce::TextButton*>(child))
+                shown = shown || button->getButtonText() == "Scale: 5-limit just";
+        CHECK(shown);
+        p.editorBeingDeleted(editor.get());
+    }
     // Back to equal temperament.
     CHECK(p.setKeyboardTuning({}, {}).isEmpty());
     CHECK(p.keyboardTuningName() == "equal temperament");

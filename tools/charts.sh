@@ -15,4 +15,5 @@ mkdir -p Resources/Charts
 ./build/Tests/jawari-accuracy Resources/Charts/accuracy.csv
 ./build/Tests/jawari-stability Resources/Charts/stability.csv
 ./build/Tests/jawari-scaling Resources/Charts/scaling.csv
+./build/Tests/jawari-polyphony Resources/Charts/polyphony.csv
 /usr/bin/python3 tools/plot_charts.py Resources/Charts

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian/Ubuntu packages Jawari builds against, when any is missing. Nothing is
 # downloaded at configure or build time: every dependency is one of these packages.
+#   bash tools/deps.sh            the build's packages
+#   bash tools/deps.sh PKG...     those packages instead (the tools' own: screenshot, validate)
 set -euo pipefail
 
-packages=(
+packages=("$@")
+[ ${#packages[@]} -gt 0 ] || packages=(
     cmake g++ make pkg-config
     juce-modules-source        # JUCE 7 modules, CMake config and juceaide
     libeigen3-dev              # small dense solves (the coupled contact Newton)

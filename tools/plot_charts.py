@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""Draws Jawari's charts from the CSVs written by jawari-accuracy, jawari-stability, jawari-scaling.
+"""Draws Jawari's charts from the CSVs written by jawari-accuracy, jawari-stability, jawari-scaling
+and jawari-polyphony.
 
     /usr/bin/python3 tools/plot_charts.py CHART_DIR
 
 Writes accuracy.png (error against real-time factor, one curve per method, points labelled (M, R)),
-stability.png (where each method fails) and scaling.png (cost against M and against P).
+stability.png (where each method fails), scaling.png (cost against M and against P) and
+polyphony.png (one core's load against the number of sounding strings).
 Needs Debian's python3-matplotlib (tools/charts.sh installs it).
 """
 import csv
@@ -154,9 +156,34 @@ def scaling_chart(directory):
     plt.close(fig)
 
 
+def polyphony_chart(directory):
+    data = rows(os.path.join(directory, "polyphony.csv"))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    for quality, colour in (("draft", "tab:green"), ("standard", "tab:blue")):
+        q = [r for r in data if r["quality"] == quality]
+        strings = [int(r["strings"]) for r in q]
+        axes[0].plot(strings, [100 * float(r["mean_load"]) for r in q], "o-", color=colour, label=f"{quality}: mean")
+        axes[0].plot(strings, [100 * float(r["worst_load"]) for r in q], "x--", color=colour, label=f"{quality}: worst block")
+        axes[1].plot(strings, [float(r["realtime_factor_per_string"]) for r in q], "o-", color=colour, label=quality)
+    axes[0].axhline(100, color="tab:red", lw=1)
+    axes[0].set_ylabel("load of one core (% of the block's time)")
+    axes[1].axhline(50, color="tab:red", lw=1, ls=":", label="50x target")
+    axes[1].set_ylabel("real-time factor per string")
+    for ax in axes:
+        ax.set_xlabel("sounding strings (held notes, then the drone)")
+        ax.set_xticks([1, 2, 4, 8, 12])
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("The instrument on one core: tanpura bridge, 48 kHz, 512-sample blocks")
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, "polyphony.png"), dpi=110)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     directory = sys.argv[1] if len(sys.argv) > 1 else "Resources/Charts"
     accuracy_chart(directory)
     stability_chart(directory)
     scaling_chart(directory)
-    print(f"wrote accuracy.png, stability.png, scaling.png in {directory}")
+    polyphony_chart(directory)
+    print(f"wrote accuracy.png, stability.png, scaling.png, polyphony.png in {directory}")

@@ -144,6 +144,10 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
         }
     }
     pack->latencySamples = pack->voices.front()->latencySamples();
+    pack->oversampling = quality.oversampling;
+    pack->decimators.assign(2, Decimator(quality.oversampling, structure.hostRateHz));
+    for (auto* buffer : {&pack->mixLeft, &pack->mixRight, &pack->stringBlock})
+        buffer->assign(size_t(Instrument::kChunk) * size_t(quality.oversampling), 0.0);
     pack->outputScale = 120.0 / std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02);
     return pack;
 }
@@ -154,11 +158,13 @@ void VoicePack::takeMotionFrom(VoicePack& other)
         return;
     for (size_t i = 0; i < voices.size() && i < other.voices.size(); ++i)
         voices[i]->takeMotionFrom(*other.voices[i]);
+    if (other.oversampling == oversampling)
+        for (size_t c = 0; c < decimators.size(); ++c)
+            decimators[c] = other.decimators[c];  // equal lengths: no allocation
 }
 
 Instrument::Instrument()
 {
-    scratch_.assign(kChunk, 0.0);
     const double pans[kDroneStrings] = {-0.6, -0.2, 0.2, 0.6};
     for (int i = 0; i < kDroneStrings; ++i)
         slots_[size_t(kMidiVoices + i)].pan = pans[i];
@@ -260,6 +266,13 @@ double Instrument::slotHeight(int slot) const
     const int channel = slots_[size_t(slot)].channel;
     return channel > 0 ? current_.obstacleHeight + kPressureHeightMetres * channels_[size_t(channel)].pressure
                        : current_.obstacleHeight;
+}
+
+double Instrument::keyboardPan(double pitch) const
+{
+    if (current_.stereoWidth == 0.0)
+        return 0.0;
+    return current_.stereoWidth * std::clamp((pitch - 72.0) / 24.0, -1.0, 1.0);
 }
 
 void Instrument::channelBend(int channel, double semitones)
@@ -499,8 +512,7 @@ void Instrument::render(float* left, float* right, int numSamples)
         smoothControls(1.0 - std::exp(-count / (0.020 * rate)));
         retuneSounding(count, rate);
         scheduleDrone(count);
-        for (int i = 0; i < kSlots; ++i)
-            renderString(i, left + offset, right + offset, count, gainStart);
+        mixChunk(left + offset, right + offset, count, gainStart);
         if (++chunksSinceSnapshot_ * kChunk >= rate / 30.0)
         {
             publishSnapshot();
@@ -555,6 +567,7 @@ void Instrument::smoothControls(double k20)
     current_.bendRangeSemitones =
         std::clamp(finiteOr(target_.bendRangeSemitones, defaults.bendRangeSemitones), 0.0, 24.0);
     current_.gainDb = std::clamp(finiteOr(target_.gainDb, defaults.gainDb), -120.0, 24.0);
+    current_.stereoWidth = std::clamp(finiteOr(target_.stereoWidth, defaults.stereoWidth), 0.0, 1.0);
     current_.drone = target_.drone;
     current_.droneTonic = target_.droneTonic;
     current_.droneFirst = target_.droneFirst;
@@ -601,21 +614,41 @@ void Instrument::retuneSounding(int count, double rate)
     }
 }
 
-// One string's chunk, panned and mixed into left/right with the gain ramp from gainStart (and a
-// steal's fade); a stolen string that has faded out starts its pending note, and a string that
-// has decayed to nothing stops sounding.
-void Instrument::renderString(int slot, float* left, float* right, int count, double gainStart)
+// Every string's chunk mixed at the internal rate into the left and right buffers, then decimated
+// once per channel into left/right.
+void Instrument::mixChunk(float* left, float* right, int count, double gainStart)
+{
+    const size_t internal = size_t(count) * size_t(pack_->oversampling);
+    std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + long(internal), 0.0);
+    std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + long(internal), 0.0);
+    for (int i = 0; i < kSlots; ++i)
+        renderString(i, count, gainStart);
+    const int os = pack_->oversampling;
+    for (int n = 0; n < count; ++n)
+    {
+        left[n] += static_cast<float>(pack_->decimators[0].process(pack_->mixLeft.data() + size_t(n) * os));
+        right[n] += static_cast<float>(pack_->decimators[1].process(pack_->mixRight.data() + size_t(n) * os));
+    }
+}
+
+// One string's chunk at the internal rate, panned and added into the mix with the gain ramp from
+// gainStart (and a steal's fade), both stepped per host sample; a stolen string that has faded out
+// starts its pending note, and a string that has decayed to nothing stops sounding.
+void Instrument::renderString(int slot, int count, double gainStart)
 {
     auto& s = slots_[size_t(slot)];
     if (!s.sounding && s.fade < 0)
         return;
     auto& voice = *pack_->voices[size_t(slot)];
-    voice.process(scratch_.data(), count);
+    double* block = pack_->stringBlock.data();
+    voice.processInternal(block, count);
     maxIterations_ = std::max(maxIterations_, voice.takeMaxIterations());
     chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
-    const double panLeft = level * std::sqrt(0.5 * (1.0 - s.pan)), panRight = level * std::sqrt(0.5 * (1.0 + s.pan));
+    const double pan = slot < kMidiVoices ? keyboardPan(slotPitchNow(slot)) : s.pan;
+    const double panLeft = level * std::sqrt(0.5 * (1.0 - pan)), panRight = level * std::sqrt(0.5 * (1.0 + pan));
     const double outputScale = pack_->outputScale;
+    const int os = pack_->oversampling;
     for (int n = 0; n < count; ++n)
     {
         double g = gainStart + (gain_ - gainStart) * (n + 1) / count;
@@ -625,9 +658,12 @@ void Instrument::renderString(int slot, float* left, float* right, int count, do
             if (s.fade > 0)
                 --s.fade;
         }
-        const double y = outputScale * g * scratch_[size_t(n)];
-        left[n] += static_cast<float>(panLeft * y);
-        right[n] += static_cast<float>(panRight * y);
+        const double toLeft = panLeft * outputScale * g, toRight = panRight * outputScale * g;
+        for (int k = n * os; k < (n + 1) * os; ++k)
+        {
+            pack_->mixLeft[size_t(k)] += toLeft * block[k];
+            pack_->mixRight[size_t(k)] += toRight * block[k];
+        }
     }
     if (s.fade == 0)
     {

@@ -86,6 +86,9 @@ struct InstrumentControls
     double qTeInv = DampingParameters{}.qTeInv;    // thermoelastic 1/Q
     std::array<double, kDampingCurvePoints> dampingCurve{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};  // multipliers
     double gainDb = 0.0;
+    // How far the MIDI strings spread across the stereo field by pitch: 0 all in the centre; 1 from
+    // hard left at C3 (48) and below to hard right at C7 (96) and above, C5 (72) in the centre.
+    double stereoWidth = 0.6;
     double bendRangeSemitones = 2.0;
     double tuningA4Hz = 440.0;
     // The pitch each MIDI key plays (equal temperament, or a Scala scale: Tuning.h); NaN: unmapped.
@@ -133,8 +136,15 @@ struct VoicePack
     // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
     // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
     double outputScale = 120.0;
+    // The strings are mixed at the internal rate and decimated once per channel (the decimator is
+    // linear): the two decimators and the chunk's internal-rate buffers (Instrument::kChunk host
+    // samples each).
+    std::vector<Decimator> decimators;  // left, right
+    std::vector<double> mixLeft, mixRight, stringBlock;
+    int oversampling = 1;
 
-    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...).
+    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
+    // and the decimators' history.
     void takeMotionFrom(VoicePack& other);
 };
 
@@ -220,6 +230,7 @@ private:
     void startKey(int slot, int note, double velocity, int channel);  // a MIDI key at its pitch in keyPitches
     double slotPitchNow(int slot) const;                              // its pitch with the bends that apply to it
     double slotHeight(int slot) const;                                // its bridge's height with its pressure
+    double keyboardPan(double pitch) const;                           // -1 .. 1: where a MIDI string at a pitch sits
     void retune(int slot);
     double noteRatio(double note) const;
     void applyContact();
@@ -229,7 +240,8 @@ private:
     void publishSnapshot();
     void smoothControls(double k20);
     void retuneSounding(int count, double rate);
-    void renderString(int slot, float* left, float* right, int count, double gainStart);
+    void mixChunk(float* left, float* right, int count, double gainStart);
+    void renderString(int slot, int count, double gainStart);
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
 
@@ -250,7 +262,7 @@ private:
     bool sustain_ = false;
     uint64_t clock_ = 0;
     double gain_ = 1.0;
-    std::vector<double> scratch_;
+
     bool droneOn_ = false;
     double droneCountdown_ = 0.0;  // host samples to the next drone pluck
     int droneNext_ = 0;

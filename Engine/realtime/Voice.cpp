@@ -178,6 +178,21 @@ void Voice::process(double* out, int numSamples)
     }
 }
 
+void Voice::processInternal(double* out, int numSamples)
+{
+    const long total = long(numSamples) * oversampling_;
+    for (long k = 0; k < total; ++k)
+    {
+        out[k] = nextInternalSample();
+        if (!(std::abs(out[k]) <= runawayLimit_))  // also catches NaN
+        {
+            ++blowUps_;
+            silence();
+            out[k] = 0.0;
+        }
+    }
+}
+
 void Voice::takeMotionFrom(Voice& other)
 {
     solver_.takeMotionFrom(other.solver_);

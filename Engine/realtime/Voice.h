@@ -69,7 +69,11 @@ public:
     void release();                             // RT: note-off, the string rings down over releaseSeconds
     void cancelRelease();                       // RT: back to the string's own damping (a new note)
     void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
-    void takeMotionFrom(Voice& other);          // RT: same string and modes, new obstacles/contact
+    // RT: the same motion at the internal rate, undecimated: oversampling() samples per host sample,
+    // numSamples host samples' worth, for a caller that mixes strings before one decimator per
+    // channel (the decimator is linear). The same guard as process(), sample by sample.
+    void processInternal(double* out, int numSamples);
+    void takeMotionFrom(Voice& other);  // RT: same string and modes, new obstacles/contact
 
     // RT: every mode's frequency scaled by `ratio` from the configured string (the note's pitch:
     // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
