@@ -3,6 +3,7 @@
 // tempo change, the length, the silence-terminated tail, the samples of the AudioProcessor played
 // in-process); bad files, presets, states and option mixes exit with status 2 and write nothing.
 
+#include "MidiFileSupport.h"
 #include "PluginProcessor.h"
 #include "RendererCliSupport.h"
 #include "TestSupport.h"
@@ -26,34 +27,16 @@
 namespace fs = std::filesystem;
 using jawari::test::render;
 using jawari::test::scratch;
+using jawari::test::track;
 using jawari::test::write;
 
 namespace
 {
 constexpr int kTicksPerQuarter = 480;  // 120 bpm until a tempo event says otherwise: 960 ticks a second
 
-// A track of timed messages (timestamps in ticks).
-juce::MidiMessageSequence track(std::initializer_list<std::pair<double, juce::MidiMessage>> events)
-{
-    juce::MidiMessageSequence sequence;
-    for (auto [tick, message] : events)
-    {
-        message.setTimeStamp(tick);
-        sequence.addEvent(message);
-    }
-    return sequence;
-}
-
 std::string writeMidi(const fs::path& path, const std::vector<juce::MidiMessageSequence>& tracks, int type)
 {
-    juce::MidiFile file;
-    file.setTicksPerQuarterNote(kTicksPerQuarter);
-    for (const auto& t : tracks)
-        file.addTrack(t);
-    fs::remove(path);
-    juce::FileOutputStream out{juce::File(path.string())};
-    REQUIRE(out.openedOk());
-    REQUIRE(file.writeTo(out, type));
+    REQUIRE(jawari::test::writeMidiFile(juce::File(path.string()), tracks, type, kTicksPerQuarter));
     return path.string();
 }
 

@@ -4,6 +4,7 @@
 // allowed, the last at lastEventSeconds. Built by tools/fuzz.sh (clang, ASan, UBSan).
 // JAWARI_MIDI_SEEDS=folder writes valid files there first (the fuzzer's seeds).
 
+#include "MidiFileSupport.h"
 #include "MidiScore.h"
 
 #include <cstddef>
@@ -12,30 +13,7 @@
 
 namespace
 {
-juce::MidiMessageSequence track(std::initializer_list<std::pair<double, juce::MidiMessage>> events)
-{
-    juce::MidiMessageSequence sequence;
-    for (auto [tick, message] : events)
-    {
-        message.setTimeStamp(tick);
-        sequence.addEvent(message);
-    }
-    return sequence;
-}
-
-void writeSeed(const juce::File& file, const std::vector<juce::MidiMessageSequence>& tracks, int type, int division)
-{
-    juce::MidiFile midi;
-    if (division > 0)
-        midi.setTicksPerQuarterNote(division);
-    else
-        midi.setSmpteTimeFormat(25, 40);
-    for (const auto& t : tracks)
-        midi.addTrack(t);
-    file.deleteFile();
-    juce::FileOutputStream out(file);
-    midi.writeTo(out, type);
-}
+using jawari::test::track;
 
 // Type 0 with notes, controllers, bend and a system exclusive; type 1 with a conductor track of
 // tempo and time-signature changes; SMPTE timing.
@@ -56,9 +34,9 @@ void writeSeeds(const juce::File& folder)
                                   {0, M::timeSignatureMetaEvent(3, 4)},
                                   {960, M::tempoMetaEvent(1000000)},
                                   {1440, M::tempoMetaEvent(250000)}});
-    writeSeed(folder.getChildFile("type0.mid"), {notes}, 0, 480);
-    writeSeed(folder.getChildFile("type1.mid"), {conductor, notes, notes}, 1, 96);
-    writeSeed(folder.getChildFile("smpte.mid"), {notes}, 0, -1);
+    jawari::test::writeMidiFile(folder.getChildFile("type0.mid"), {notes}, 0, 480);
+    jawari::test::writeMidiFile(folder.getChildFile("type1.mid"), {conductor, notes, notes}, 1, 96);
+    jawari::test::writeMidiFile(folder.getChildFile("smpte.mid"), {notes}, 0, 0);
 }
 }  // namespace
 
