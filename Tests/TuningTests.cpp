@@ -140,6 +140,22 @@ double measuredPartial(const std::vector<double>& y, double pitch, int p)
     const double expected = partialHz(pitch, p);
     return peakFrequency(y, 48000.0, expected - 0.5, expected + 0.5, 48000, y.size() - 48000);
 }
+// Parsing `text` throws a TuningError whose message contains `message`.
+template <typename Parse>
+void checkRefused(Parse parse, const char* text, const char* message)
+{
+    std::string what;
+    try
+    {
+        parse();
+    }
+    catch (const TuningError& e)
+    {
+        what = e.what();
+    }
+    INFO("text '" << text << "': " << what);
+    CHECK_THAT(what, Catch::Matchers::Contains(message));
+}
 }  // namespace
 
 TEST_CASE("The drone's strings below Sa are pure intervals, or equal-tempered ones", "[tuning]")
@@ -255,19 +271,7 @@ TEST_CASE("Bad Scala files are rejected with a message naming the problem", "[tu
         {"name\n1\n1e999.0\n", "is not a number"},
     };
     for (const auto& [text, message] : scales)
-    {
-        std::string what;
-        try
-        {
-            parseScalaScale(text);
-        }
-        catch (const TuningError& e)
-        {
-            what = e.what();
-        }
-        INFO("scale '" << text << "': " << what);
-        CHECK_THAT(what, Catch::Matchers::Contains(message));
-    }
+        checkRefused([&] { parseScalaScale(text); }, text, message);
     const std::pair<const char*, const char*> maps[] = {
         {"12\n0\n127\n", "needs 7 header values"},
         {"12\n0\n200\n60\n69\n440\n12\n", "note numbers must be 0 to 127 (got 200)"},
@@ -276,17 +280,5 @@ TEST_CASE("Bad Scala files are rejected with a message naming the problem", "[tu
         {"2\n0\n127\n60\n69\n440\n12\n0\ny\n", "map entry: 'y' is not a whole number"},
     };
     for (const auto& [text, message] : maps)
-    {
-        std::string what;
-        try
-        {
-            parseKeyboardMap(text);
-        }
-        catch (const TuningError& e)
-        {
-            what = e.what();
-        }
-        INFO("map '" << text << "': " << what);
-        CHECK_THAT(what, Catch::Matchers::Contains(message));
-    }
+        checkRefused([&] { parseKeyboardMap(text); }, text, message);
 }
