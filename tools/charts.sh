@@ -6,11 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/deps.sh
 bash tools/build.sh
-if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
-    sudo=""
-    [ "$(id -u)" -ne 0 ] && sudo="sudo"
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends python3-matplotlib
-fi
+bash tools/deps.sh python3-matplotlib  # the plots
 mkdir -p Resources/Charts
 ./build/Tests/jawari-accuracy Resources/Charts/accuracy.csv
 ./build/Tests/jawari-stability Resources/Charts/stability.csv

@@ -14,13 +14,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 which="${2:-all}"
 bash tools/deps.sh
-for p in clang libclang-rt-14-dev; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || {
-        sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
-        DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends clang libclang-rt-14-dev
-        break
-    }
-done
+bash tools/deps.sh clang libclang-rt-14-dev  # libFuzzer and the sanitizers' runtime
 if [ "$which" = scene ] || [ "$which" = all ]; then
     mkdir -p build-fuzz/corpus
     cp Tests/scenes/corpus/*.json Resources/Scenes/*.json build-fuzz/corpus/
