@@ -156,14 +156,7 @@ void ModalSolver::restartFromModes()
     projectActive(state_.qPrev(), uCPrev_.data());
     pickup_ = kernels::dot(state_.h(), state_.q(), state_.activeCount());
     if (method_ == ContactMethod::quadratised)
-    {
-        for (int j = 0; j < P_; ++j)
-        {
-            penetration_[j] = contacts_[j].height - uC_[j];
-            pointForce_[j] = contacts_[j].height - uCPrev_[j];
-        }
-        quadratised_.restart(contacts_, penetration_.data(), pointForce_.data());
-    }
+        quadratised_.restart(contacts_, uC_.data(), uCPrev_.data());
 }
 
 void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplacement)
@@ -214,11 +207,17 @@ double ModalSolver::obstacleEnergy() const
 {
     if (method_ == ContactMethod::quadratised)
         return quadratised_.energy();
+    return contactPotentialEnergy(uC_.data(), uCPrev_.data());
+}
+
+// sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2 for the points' displacements u at n and n-1.
+double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev) const
+{
     double sum = 0.0;
     for (int j = 0; j < P_; ++j)
         sum += contacts_[j].weight * 0.5
-               * (contactPotential(contacts_[j].law, contacts_[j].height - uC_[j] - compliance_.delta(j))
-                  + contactPotential(contacts_[j].law, contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j)));
+               * (contactPotential(contacts_[j].law, contacts_[j].height - u[j] - compliance_.delta(j))
+                  + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
     return sum;
 }
 
@@ -537,11 +536,7 @@ ModalSolver::Energy ModalSolver::energy()
     std::vector<double> u(P_), uPrev(P_);
     projectActive(current.data(), u.data());
     projectActive(previous.data(), uPrev.data());
-    for (int j = 0; j < P_; ++j)
-        out.contact +=
-            contacts_[j].weight * 0.5
-            * (contactPotential(contacts_[j].law, contacts_[j].height - u[j] - compliance_.delta(j))
-               + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
+    out.contact = contactPotentialEnergy(u.data(), uPrev.data());
     if (method_ == ContactMethod::quadratised)
         out.contact = quadratised_.energy();  // the quadratised contact energy, V = xi^2/2
     if (compliance_.active())

@@ -163,6 +163,7 @@ private:
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
+    double contactPotentialEnergy(const double* u, const double* uPrev) const;
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
 
     int M_ = 0;  // modes of the model

@@ -14,14 +14,13 @@ void QuadratisedContact::prepare(int points)
     response_.assign(points, 0.0);
 }
 
-void QuadratisedContact::restart(const std::vector<ContactPoint>& contacts, const double* penetration,
-                                 const double* penetrationPrev)
+void QuadratisedContact::restart(const std::vector<ContactPoint>& contacts, const double* u, const double* uPrev)
 {
     xi_ = xiPrev_ = 0.0;
     for (size_t j = 0; j < contacts.size(); ++j)
     {
-        xi_ += contacts[j].weight * contactPotential(contacts[j].law, penetration[j]);
-        xiPrev_ += contacts[j].weight * contactPotential(contacts[j].law, penetrationPrev[j]);
+        xi_ += contacts[j].weight * contactPotential(contacts[j].law, contacts[j].height - u[j]);
+        xiPrev_ += contacts[j].weight * contactPotential(contacts[j].law, contacts[j].height - uPrev[j]);
     }
     xi_ = std::sqrt(2.0 * xi_);
     xiPrev_ = std::sqrt(2.0 * xiPrev_);

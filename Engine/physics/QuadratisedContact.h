@@ -20,8 +20,8 @@ class QuadratisedContact
 {
 public:
     void prepare(int points);  // OFF: sizes the workspace
-    // RT: xi = sqrt(2 V) at n and n-1 from the points' penetrations.
-    void restart(const std::vector<ContactPoint>& contacts, const double* penetration, const double* penetrationPrev);
+    // RT: xi = sqrt(2 V) at n and n-1 from the points' displacements u (penetration g - u).
+    void restart(const std::vector<ContactPoint>& contacts, const double* u, const double* uPrev);
     void reset();  // RT: xi = 0 (the string at rest)
     // RT: the slopes G_j of the step from the penetrations at n and b (the contact-free change of
     // each point), with B = `pointCoupling`. Returns 0 iterations.

@@ -270,8 +270,6 @@ double Instrument::slotHeight(int slot) const
 
 double Instrument::keyboardPan(double pitch) const
 {
-    if (current_.stereoWidth == 0.0)
-        return 0.0;
     return current_.stereoWidth * std::clamp((pitch - 72.0) / 24.0, -1.0, 1.0);
 }
 

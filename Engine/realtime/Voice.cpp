@@ -166,15 +166,7 @@ void Voice::process(double* out, int numSamples)
     {
         for (int i = 0; i < oversampling_; ++i)
             block_[i] = nextInternalSample();
-        out[m] = decimator_.process(block_.data());
-        if (!(std::abs(out[m]) <= runawayLimit_))  // also catches NaN
-        {
-            // A method that lost stability (the penalty force, for one): no NaN and no blast
-            // reaches the speakers; the string restarts from rest.
-            ++blowUps_;
-            silence();
-            out[m] = 0.0;
-        }
+        out[m] = guarded(decimator_.process(block_.data()));
     }
 }
 
@@ -182,15 +174,18 @@ void Voice::processInternal(double* out, int numSamples)
 {
     const long total = long(numSamples) * oversampling_;
     for (long k = 0; k < total; ++k)
-    {
-        out[k] = nextInternalSample();
-        if (!(std::abs(out[k]) <= runawayLimit_))  // also catches NaN
-        {
-            ++blowUps_;
-            silence();
-            out[k] = 0.0;
-        }
-    }
+        out[k] = guarded(nextInternalSample());
+}
+
+double Voice::guarded(double sample)
+{
+    if (std::abs(sample) <= runawayLimit_)  // false for NaN too
+        return sample;
+    // A method that lost stability (the penalty force, for one): no NaN and no blast reaches the
+    // speakers; the string restarts from rest.
+    ++blowUps_;
+    silence();
+    return 0.0;
 }
 
 void Voice::takeMotionFrom(Voice& other)

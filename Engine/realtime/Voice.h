@@ -104,6 +104,7 @@ public:
 
 private:
     double nextInternalSample();
+    double guarded(double sample);  // the sample, or 0 after a restart when it is beyond the runaway limit
 
     ModalSolver solver_;
     Decimator decimator_;
