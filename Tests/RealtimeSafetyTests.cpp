@@ -149,8 +149,10 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
 TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
 {
     // Every obstacle shape (one point, a parabolic bridge, five frets) and every method.
+    // Each voice alone and the string bank.
     for (const auto shape : {ObstacleShape::point, ObstacleShape::parabola, ObstacleShape::frets})
         for (const auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty})
+            for (const auto scheduling : {StringScheduling::lone, StringScheduling::bank})
         {
             InstrumentStructure s;
             s.quality = 0;
@@ -162,6 +164,7 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
             s.obstaclePosition += 0.01;
             auto second = buildVoicePack(s);  // built off the audio thread, as the plugin's builder does
             Instrument instrument;
+            instrument.setScheduling(scheduling);
             InstrumentControls c;
             instrument.setControls(c);
             instrument.install(first.get(), nullptr);
@@ -199,7 +202,7 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
                 }
                 counted = allocations;
             }
-            INFO("shape " << int(shape) << " method " << int(method));
+            INFO("shape " << int(shape) << " method " << int(method) << " scheduling " << int(scheduling));
             CHECK(counted == 0);
             CHECK(instrument.snapshots().read(snapshot));
             CHECK(snapshot.sequence > 0);

@@ -160,11 +160,18 @@ def polyphony_chart(directory):
     data = rows(os.path.join(directory, "polyphony.csv"))
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     for quality, colour in (("draft", "tab:green"), ("standard", "tab:blue")):
-        q = [r for r in data if r["quality"] == quality]
-        strings = [int(r["strings"]) for r in q]
-        axes[0].plot(strings, [100 * float(r["mean_load"]) for r in q], "o-", color=colour, label=f"{quality}: mean")
-        axes[0].plot(strings, [100 * float(r["worst_load"]) for r in q], "x--", color=colour, label=f"{quality}: worst block")
-        axes[1].plot(strings, [float(r["realtime_factor_per_string"]) for r in q], "o-", color=colour, label=quality)
+        for scheduling, style in (("lone", "-"), ("bank", ":")):
+            q = [r for r in data if r["quality"] == quality and r.get("scheduling", "lone") == scheduling]
+            if not q:
+                continue
+            strings = [int(r["strings"]) for r in q]
+            label = f"{quality}, {scheduling}"
+            axes[0].plot(strings, [100 * float(r["mean_load"]) for r in q], "o" + style, color=colour,
+                         label=f"{label}: mean")
+            axes[0].plot(strings, [100 * float(r["worst_load"]) for r in q], "x" + style, color=colour, alpha=0.5,
+                         label=f"{label}: worst block")
+            axes[1].plot(strings, [float(r["realtime_factor_per_string"]) for r in q], "o" + style, color=colour,
+                         label=label)
     axes[0].axhline(100, color="tab:red", lw=1)
     axes[0].set_ylabel("load of one core (% of the block's time)")
     axes[1].axhline(50, color="tab:red", lw=1, ls=":", label="50x target")

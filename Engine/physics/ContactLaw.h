@@ -97,4 +97,18 @@ struct ScalarContactSolution
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
                                          const DividedSeries* series = nullptr, const KnownPower* known = nullptr);
 
+// One point's equation with everything its solve takes, handed between the string that poses it
+// and a caller that solves many strings' equations together (ContactLanes.h).
+struct ScalarContactRequest
+{
+    ContactLaw law;
+    double s = 0.0, b = 0.0, k = 0.0;
+    const DividedSeries* series = nullptr;  // dividedSeries(law.exponent)
+    KnownPower known;
+};
+inline ScalarContactSolution solveScalarContact(const ScalarContactRequest& q)
+{
+    return solveScalarContact(q.law, q.s, q.b, q.k, q.series, &q.known);
+}
+
 }  // namespace jawari

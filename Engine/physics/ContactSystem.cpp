@@ -129,18 +129,39 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
 int ContactSystem::solveDecoupled(const double* s, const double* b, double* r, double* slope)
 {
     int most = 0;
-    for (size_t j = 0; j < points_.size(); ++j)
+    for (int j = 0; j < size(); ++j)
     {
-        auto& known = known_[j];
-        const auto sol = solveScalarContact(points_[j].law, s[j], b[j], A_(Eigen::Index(j), Eigen::Index(j)),
-                                            &series_[j], &known[1]);
-        known[1] = known[0];
-        known[0] = sol.penetration;
+        ScalarContactRequest request;
+        scalarRequest(j, s[j], b[j], request);
+        const auto sol = solveScalarContact(request);
+        recordScalar(j, sol);
         r[j] = sol.r;
         slope[j] = sol.slope;
         most = std::max(most, sol.iterations);
     }
     return most;
+}
+
+void ContactSystem::scalarRequest(int j, double s, double b, ScalarContactRequest& request) const
+{
+    // Field by field: a caller's request is read back field by field (ContactLaneBatch::add).
+    request.law.stiffness = points_[size_t(j)].law.stiffness;
+    request.law.exponent = points_[size_t(j)].law.exponent;
+    request.s = s;
+    request.b = b;
+    request.k = A_(j, j);
+    request.series = &series_[size_t(j)];
+    const KnownPower& known = known_[size_t(j)][1];
+    request.known.x = known.x;
+    request.known.xAlpha = known.xAlpha;
+    request.known.invX = known.invX;
+}
+
+void ContactSystem::recordScalar(int j, const ScalarContactSolution& solution)
+{
+    auto& known = known_[size_t(j)];
+    known[1] = known[0];
+    known[0] = solution.penetration;
 }
 
 // Point j's solution and its bookkeeping: the warm start's history and the known powers.

@@ -38,6 +38,11 @@ public:
     // RT. s_j = g_j - u_j^{n-1}, b_j = u~_j - u_j^{n-1}. Writes r and the slopes G_j(r_j)
     // (force per metre -G_j). Returns the iteration count (max over points when decoupled).
     int solve(const double* s, const double* b, double* r, double* slope);
+    // RT: the two halves of solve() for point j of a diagonal system, for a caller that solves many
+    // strings' points together (StringBank): its scalar equation for s_j, b_j, and the bookkeeping
+    // of its solution (the known powers the next solves start from).
+    void scalarRequest(int j, double s, double b, ScalarContactRequest& request) const;
+    void recordScalar(int j, const ScalarContactSolution& solution);
 
 private:
     // phi = r + A G(r) - b, with G_ and dG_ written at r; returns |phi|_inf.

@@ -175,14 +175,45 @@ void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplac
 
 void ModalSolver::step()
 {
-    if (state_.pairable() && externalForce_ == 0.0)
+    ScalarContactRequest request;
+    if (beginStep(request))
+        finishStep(solveScalarContact(request));
+}
+
+bool ModalSolver::beginStep(ScalarContactRequest& request)
+{
+    if (!state_.pairable() || externalForce_ != 0.0)
     {
-        state_.beginPairs();
-        stepPaired();
-        return;
+        state_.toSingle();
+        stepSingle();
+        return false;
     }
-    state_.toSingle();
-    stepSingle();
+    state_.beginPairs();
+    predictPairStep();
+    lastIterations_ = 0;
+    lastPenetration_ = -std::numeric_limits<double>::infinity();
+    if (P_ == 1)
+    {
+        s_[0] = contacts_[0].height - uCPrev_[0] - compliance_.deltaPrev(0);
+        b_[0] = pairU_ - uCPrev_[0] - compliance_.deltaPrev(0);
+        if (method_ == ContactMethod::energyConserving)
+        {
+            system_.scalarRequest(0, s_[0], b_[0], request);
+            return true;
+        }
+        lastIterations_ = solveContacts();
+    }
+    finishPairStep();
+    return false;
+}
+
+void ModalSolver::finishStep(const ScalarContactSolution& solution)
+{
+    system_.recordScalar(0, solution);
+    r_[0] = solution.r;
+    slope_[0] = solution.slope;
+    lastIterations_ = solution.iterations;
+    finishPairStep();
 }
 
 void ModalSolver::setExternalForce(double newtons)
@@ -330,19 +361,6 @@ void ModalSolver::takeMotionFrom(ModalSolver& other)
     restartFromModes();
 }
 
-double ModalSolver::solveOnePoint(double uTilde)
-{
-    s_[0] = contacts_[0].height - uCPrev_[0] - compliance_.deltaPrev(0);
-    b_[0] = uTilde - uCPrev_[0] - compliance_.deltaPrev(0);
-    lastIterations_ = solveContacts();
-    // u_C^{n+1} = u~ + A f with f = -G.
-    uCPrev_[0] = uC_[0];
-    uC_[0] = uTilde - stringCoupling_(0, 0) * slope_[0];
-    compliance_.advance(slope_.data());
-    lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
-    return slope_[0];
-}
-
 int ModalSolver::solveContacts()
 {
     if (method_ == ContactMethod::energyConserving)
@@ -355,40 +373,43 @@ int ModalSolver::solveContacts()
     return quadratised_.solve(contacts_, penetration_.data(), b_.data(), pointCoupling_, slope_.data());
 }
 
-void ModalSolver::stepPaired()
+// The pair's first step runs the pass over the modes for both steps (kernels::pairStep); the second
+// step's contact-free projections follow from it: q~^{n+2} = Y + c1 a phi, so they gain
+// c1 sum(a phi phi) and c1 sum(a phi h).
+void ModalSolver::predictPairStep()
 {
-    lastIterations_ = 0;
-    lastPenetration_ = -std::numeric_limits<double>::infinity();
-    const double* phi = state_.singlePhi();
     if (state_.layout() == ModalState::Layout::pairBoundary)
     {
-        double u1 = 0.0;
-        kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(), phi,
-                          state_.c1(), state_.c2(), state_.paddedCount(), pickupTilde_, u1, pairPickup2_,
-                          pairContact2_);
-        double y = pickupTilde_;
-        double c1 = 0.0;
-        if (P_ == 1)
-        {
-            const double G = solveOnePoint(u1);
-            c1 = -forceScale_ * contacts_[0].weight * G;  // q^{n+1} = q~ + c1 phi
-            y -= pickupPhiW_[0] * G;
-        }
-        pickup_ = y;
-        state_.setPairMiddle(c1);
+        kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
+                          state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(), pairPickup_, pairU_,
+                          pairPickup2_, pairContact2_);
         return;
     }
-    // Second step of the pair: q~^{n+2} = Y + c1 a phi, so its projections gain c1 sum(a phi phi).
-    double y = pairPickup2_ + state_.c1() * state_.sumAPhiH();
-    double c2 = 0.0;
+    pairPickup_ = pairPickup2_ + state_.c1() * state_.sumAPhiH();
+    pairU_ = pairContact2_ + state_.c1() * state_.sumAPhiSquared();
+}
+
+// With the point's slope G: u_C^{n+1} = u~ + A f with f = -G, q^{n+1} = q~ + c phi with
+// c = -(dt^2/mu) w G (the layout's correction), and the pickup likewise.
+void ModalSolver::finishPairStep()
+{
+    double y = pairPickup_;
+    double c = 0.0;
     if (P_ == 1)
     {
-        const double G = solveOnePoint(pairContact2_ + state_.c1() * state_.sumAPhiSquared());
-        c2 = -forceScale_ * contacts_[0].weight * G;
+        const double G = slope_[0];
+        uCPrev_[0] = uC_[0];
+        uC_[0] = pairU_ - stringCoupling_(0, 0) * G;
+        compliance_.advance(slope_.data());
+        lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
+        c = -forceScale_ * contacts_[0].weight * G;
         y -= pickupPhiW_[0] * G;
     }
     pickup_ = y;
-    state_.setPairBoundary(c2);
+    if (state_.layout() == ModalState::Layout::pairBoundary)
+        state_.setPairMiddle(c);
+    else
+        state_.setPairBoundary(c);
 }
 
 void ModalSolver::stepSingle()

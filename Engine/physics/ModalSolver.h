@@ -71,6 +71,16 @@ public:
     void setState(const std::vector<double>& current, const std::vector<double>& previous);
 
     void step();  // RT: n -> n+1
+    // RT: step() split around its contact solve, for a caller that solves many strings' points
+    // together (StringBank). beginStep() takes the whole step and returns false unless the step has
+    // exactly one energy-conserving contact point on the paired path (no explicit force); then it
+    // has predicted the step, `request` holds the point's scalar equation, and finishStep() takes
+    // its solution and completes the step.
+    bool beginStep(ScalarContactRequest& request);
+    // RT: whether the next step runs a pass over the modes, and the cache asked for its arrays.
+    bool nextStepPasses() const { return !state_.pairable() || state_.layout() != ModalState::Layout::pairMiddle; }
+    void prefetchPass() const { state_.prefetchPass(); }
+    void finishStep(const ScalarContactSolution& solution);
 
     // RT: a point force (N) at the excitation position, applied explicitly from the next step on
     // (part of the prediction: q~ += (dt^2/mu) F phi_e) until set back to 0.
@@ -153,11 +163,11 @@ private:
     void prepareContactMethods(const ModalSolverConfig& config, Eigen::MatrixXd A);
 
     void stepSingle();  // one pass per step: many points, the transform path, or a force
-    void stepPaired();  // one pass per two steps: at most one point (projection)
+    void predictPairStep();  // the pass of a pair's first step, or its second step's projections
+    void finishPairStep();   // the point's slope_[0] applied (with one point), the layout advanced
     void predictAtPoints(bool fused);
     void applyContactForces();
     void endSingleStep();
-    double solveOnePoint(double uTilde);  // contact at the single point; returns its slope G
     int solveContacts();                  // slope_ from s_, b_ by the configured method
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
@@ -185,6 +195,7 @@ private:
     double externalForce_ = 0.0;  // N
     double pickupPhiE_ = 0.0;     // (dt^2/mu) h . phi_e
     double pairContact2_ = 0.0, pairPickup2_ = 0.0;
+    double pairU_ = 0.0, pairPickup_ = 0.0;  // the paired step's contact-free u~ and pickup
 
     std::vector<double> pickupPhiW_;   // (dt^2/mu) w_j (h . phi_j)
     Eigen::MatrixXd stringCoupling_;   // A = (dt^2/mu) Phi Phi^T W: the string's response at the points

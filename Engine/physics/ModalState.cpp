@@ -170,3 +170,23 @@ void ModalState::restartSingle()
 }
 
 }  // namespace jawari
+
+namespace jawari
+{
+
+void ModalState::prefetchPass() const
+{
+    for (int i = 0; i < Mpad_; i += 8)  // a cache line of doubles at a time
+    {
+        __builtin_prefetch(a_ + i, 0, 3);
+        __builtin_prefetch(e_ + i, 0, 3);
+        __builtin_prefetch(h_ + i, 0, 3);
+        if (phi_ != nullptr)
+            __builtin_prefetch(phi_ + i, 0, 3);
+        __builtin_prefetch(q_ + i, 1, 3);
+        __builtin_prefetch(qPrev_ + i, 1, 3);
+        __builtin_prefetch(settled_ + i, 1, 3);
+    }
+}
+
+}  // namespace jawari

@@ -98,6 +98,9 @@ public:
     const double* qPrev() const { return qPrev_; }
     // RT: after a single step written over qPrev: q^{n+1} becomes q.
     void swapSingle();
+    // RT: asks the cache for the arrays the next pass over the modes reads and writes (the string
+    // bank steps many strings in turn, whose arrays do not all fit in the first-level cache).
+    void prefetchPass() const;
     // RT: the state at rest (zero), single layout.
     void clear();
     // RT: single layout from an explicit active-mode state.

@@ -146,8 +146,10 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     pack->latencySamples = pack->voices.front()->latencySamples();
     pack->oversampling = quality.oversampling;
     pack->decimators.assign(2, Decimator(quality.oversampling, structure.hostRateHz));
-    for (auto* buffer : {&pack->mixLeft, &pack->mixRight, &pack->stringBlock})
-        buffer->assign(size_t(Instrument::kChunk) * size_t(quality.oversampling), 0.0);
+    const size_t chunkSteps = size_t(Instrument::kChunk) * size_t(quality.oversampling);
+    pack->mixLeft.assign(chunkSteps, 0.0);
+    pack->mixRight.assign(chunkSteps, 0.0);
+    pack->stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     pack->outputScale = 120.0 / std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02);
     return pack;
 }
@@ -612,34 +614,46 @@ void Instrument::retuneSounding(int count, double rate)
     }
 }
 
-// Every string's chunk mixed at the internal rate into the left and right buffers, then decimated
-// once per channel into left/right.
+// Every sounding string's chunk at the internal rate (each voice alone, or the bank stepping them
+// together), mixed into the left and right buffers, then decimated once per channel into left/right.
 void Instrument::mixChunk(float* left, float* right, int count, double gainStart)
 {
     const size_t internal = size_t(count) * size_t(pack_->oversampling);
     std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + long(internal), 0.0);
     std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + long(internal), 0.0);
+    std::array<Voice*, kSlots> voices{};
+    std::array<double*, kSlots> blocks{};
+    std::array<int, kSlots> sounding{};
+    int n = 0;
     for (int i = 0; i < kSlots; ++i)
-        renderString(i, count, gainStart);
+        if (slots_[size_t(i)].sounding || slots_[size_t(i)].fade >= 0)
+        {
+            voices[size_t(n)] = pack_->voices[size_t(i)].get();
+            blocks[size_t(n)] = pack_->stringBlocks.data() + size_t(i) * size_t(kChunk) * size_t(pack_->oversampling);
+            sounding[size_t(n++)] = i;
+        }
+    if (scheduling_ == StringScheduling::bank)
+        bank_.process(voices.data(), blocks.data(), n, count);
+    else
+        for (int k = 0; k < n; ++k)
+            voices[size_t(k)]->processInternal(blocks[size_t(k)], count);
+    for (int k = 0; k < n; ++k)
+        mixString(sounding[size_t(k)], blocks[size_t(k)], count, gainStart);
     const int os = pack_->oversampling;
-    for (int n = 0; n < count; ++n)
+    for (int m = 0; m < count; ++m)
     {
-        left[n] += static_cast<float>(pack_->decimators[0].process(pack_->mixLeft.data() + size_t(n) * os));
-        right[n] += static_cast<float>(pack_->decimators[1].process(pack_->mixRight.data() + size_t(n) * os));
+        left[m] += static_cast<float>(pack_->decimators[0].process(pack_->mixLeft.data() + size_t(m) * os));
+        right[m] += static_cast<float>(pack_->decimators[1].process(pack_->mixRight.data() + size_t(m) * os));
     }
 }
 
-// One string's chunk at the internal rate, panned and added into the mix with the gain ramp from
-// gainStart (and a steal's fade), both stepped per host sample; a stolen string that has faded out
-// starts its pending note, and a string that has decayed to nothing stops sounding.
-void Instrument::renderString(int slot, int count, double gainStart)
+// One string's chunk at the internal rate (block), panned and added into the mix with the gain ramp
+// from gainStart (and a steal's fade), both stepped per host sample; a stolen string that has faded
+// out starts its pending note, and a string that has decayed to nothing stops sounding.
+void Instrument::mixString(int slot, const double* block, int count, double gainStart)
 {
     auto& s = slots_[size_t(slot)];
-    if (!s.sounding && s.fade < 0)
-        return;
     auto& voice = *pack_->voices[size_t(slot)];
-    double* block = pack_->stringBlock.data();
-    voice.processInternal(block, count);
     maxIterations_ = std::max(maxIterations_, voice.takeMaxIterations());
     chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom

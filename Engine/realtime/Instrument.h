@@ -16,6 +16,7 @@
 #include "physics/StringModel.h"
 #include "realtime/Quality.h"
 #include "realtime/SnapshotBuffer.h"
+#include "realtime/StringBank.h"
 #include "realtime/Tuning.h"
 #include "realtime/Voice.h"
 
@@ -116,6 +117,15 @@ StringParameters instrumentString(const InstrumentStructure& s);
 // M and the oversampling of the structure's quality at its host rate.
 VoiceQuality instrumentQuality(const InstrumentStructure& s);
 
+// How the sounding strings are stepped: each voice alone through its chunk (the default: the faster
+// on the machines measured, docs/measurements.md), or the string bank stepping them together with
+// their contact solves in SIMD lanes (StringBank.h).
+enum class StringScheduling
+{
+    lone,
+    bank
+};
+
 inline constexpr int kMidiVoices = 8;
 inline constexpr int kDroneStrings = 4;
 inline constexpr int kSlots = kMidiVoices + kDroneStrings;
@@ -140,7 +150,8 @@ struct VoicePack
     // linear): the two decimators and the chunk's internal-rate buffers (Instrument::kChunk host
     // samples each).
     std::vector<Decimator> decimators;  // left, right
-    std::vector<double> mixLeft, mixRight, stringBlock;
+    std::vector<double> mixLeft, mixRight;
+    std::vector<double> stringBlocks;  // kSlots chunks at the internal rate: each string's, before the mix
     int oversampling = 1;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
@@ -191,6 +202,7 @@ public:
     // RT: the smoothed controls (obstacle, gain) jump to their targets: where playback starts
     // there is nothing to glide from.
     void settleControls();
+    void setScheduling(StringScheduling scheduling) { scheduling_ = scheduling; }  // RT
 
     // RT: numSamples of stereo at the host rate, replacing what is in left/right.
     void render(float* left, float* right, int numSamples);
@@ -241,7 +253,7 @@ private:
     void smoothControls(double k20);
     void retuneSounding(int count, double rate);
     void mixChunk(float* left, float* right, int count, double gainStart);
-    void renderString(int slot, int count, double gainStart);
+    void mixString(int slot, const double* block, int count, double gainStart);
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
 
@@ -254,6 +266,8 @@ private:
     std::array<bool, 17> slideMoved_{};
     bool pressureMoved_ = false;
     VoicePack* pack_ = nullptr;
+    StringScheduling scheduling_ = StringScheduling::lone;
+    StringBank bank_;
     int fadeLength_ = 1;  // a steal's fade-out, host samples
     std::array<Slot, kSlots> slots_{};
     InstrumentControls target_, current_;

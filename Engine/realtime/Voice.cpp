@@ -123,6 +123,26 @@ void Voice::cancelRelease()
 
 double Voice::nextInternalSample()
 {
+    beforeStep();
+    solver_.step();
+    return sampleAfterStep();
+}
+
+bool Voice::beginSample(ScalarContactRequest& request)
+{
+    beforeStep();
+    return solver_.beginStep(request);
+}
+
+double Voice::finishSample(const ScalarContactSolution* solution)
+{
+    if (solution != nullptr)
+        solver_.finishStep(*solution);
+    return guarded(sampleAfterStep());
+}
+
+void Voice::beforeStep()
+{
     if (pulseStep_ >= 0)
     {
         if (pulseStep_ < pulseSteps_)
@@ -146,7 +166,10 @@ double Voice::nextInternalSample()
         yPrevious_ = y_;
         first_ = false;
     }
-    solver_.step();
+}
+
+double Voice::sampleAfterStep()
+{
     const double yNext = solver_.pickup();
     maxIterations_ = std::max(maxIterations_, solver_.lastIterations());
     iterationCount_ += solver_.lastIterations();

@@ -74,6 +74,12 @@ public:
     // channel (the decimator is linear). The same guard as process(), sample by sample.
     void processInternal(double* out, int numSamples);
     void takeMotionFrom(Voice& other);  // RT: same string and modes, new obstacles/contact
+    // RT: one sample of processInternal() in two halves around the contact solve, for the string
+    // bank, which solves many strings' points together. beginSample() returns true when the step
+    // waits for its point's solution to `request`: finishSample() then takes it (else nullptr) and
+    // returns the guarded internal sample.
+    bool beginSample(ScalarContactRequest& request);
+    double finishSample(const ScalarContactSolution* solution);
 
     // RT: every mode's frequency scaled by `ratio` from the configured string (the note's pitch:
     // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
@@ -104,6 +110,8 @@ public:
 
 private:
     double nextInternalSample();
+    void beforeStep();        // the pluck pulse's force and the stream's first sample
+    double sampleAfterStep();  // the step's output sample and statistics
     double guarded(double sample);  // the sample, or 0 after a restart when it is beyond the runaway limit
 
     ModalSolver solver_;

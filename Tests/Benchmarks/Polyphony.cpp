@@ -2,8 +2,9 @@
 // eight held notes, then the drone's four) at each quality, on the tanpura bridge (the Default
 // structure: a point bridge at x = 6 mm), 48 kHz in 512-sample blocks, one core. Reports the load
 // (CPU time over audio time, mean and worst block) and the real-time factor per string (the
-// instrument's real-time factor times its string count). Measures and reports; never asserts.
-// Writes CSV: quality, strings, mean_load, worst_load, realtime_factor_per_string.
+// instrument's real-time factor times its string count), with the strings stepped each alone and by
+// the string bank. Measures and reports; never asserts.
+// Writes CSV: quality, scheduling, strings, mean_load, worst_load, realtime_factor_per_string.
 //
 //   jawari-polyphony [out.csv] [--seconds S]
 
@@ -28,7 +29,7 @@ struct Load
 };
 
 // Plays `strings` strings for `seconds`: held notes C3 up in whole tones, the drone beyond eight.
-Load measure(int quality, int strings, double seconds)
+Load measure(int quality, StringScheduling scheduling, int strings, double seconds)
 {
     constexpr double rate = 48000.0;
     constexpr int block = 512;
@@ -37,6 +38,7 @@ Load measure(int quality, int strings, double seconds)
     structure.obstaclePosition = 0.006;
     auto pack = buildVoicePack(structure);
     Instrument instrument;
+    instrument.setScheduling(scheduling);
     InstrumentControls controls;
     controls.drone = strings > kMidiVoices;
     controls.droneTempo = 200.0;  // the four drone strings all sounding within a second
@@ -86,16 +88,20 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "jawari-polyphony: cannot write %s\n", path);
         return 1;
     }
-    std::fprintf(out, "quality,strings,mean_load,worst_load,realtime_factor_per_string\n");
+    std::fprintf(out, "quality,scheduling,strings,mean_load,worst_load,realtime_factor_per_string\n");
     for (int q = 0; q < 2; ++q)  // draft and standard: what plays in real time
         for (int strings : {1, 2, 4, 8, 12})
-        {
-            const Load load = measure(q, strings, seconds);
-            std::fprintf(out, "%s,%d,%.4f,%.4f,%.4g\n", kQualitySettings[q].name, strings, load.mean, load.worst,
-                         strings / load.mean);
-            std::fflush(out);
-            std::fprintf(stderr, "%-8s %2d strings: mean %5.1f %%, worst block %5.1f %%, %6.1fx real time per string\n",
-                         kQualitySettings[q].name, strings, 100.0 * load.mean, 100.0 * load.worst, strings / load.mean);
-        }
+            for (const auto scheduling : {StringScheduling::lone, StringScheduling::bank})
+            {
+                const char* name = scheduling == StringScheduling::bank ? "bank" : "lone";
+                const Load load = measure(q, scheduling, strings, seconds);
+                std::fprintf(out, "%s,%s,%d,%.4f,%.4f,%.4g\n", kQualitySettings[q].name, name, strings, load.mean,
+                             load.worst, strings / load.mean);
+                std::fflush(out);
+                std::fprintf(stderr,
+                             "%-8s %s %2d strings: mean %5.1f %%, worst block %5.1f %%, %6.1fx real time per string\n",
+                             kQualitySettings[q].name, name, strings, 100.0 * load.mean, 100.0 * load.worst,
+                             strings / load.mean);
+            }
     return 0;
 }

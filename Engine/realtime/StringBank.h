@@ -1,0 +1,37 @@
+#pragma once
+// The string bank (docs/design.md section 5, "The string bank"): every sounding string of the
+// instrument stepped in lockstep, one internal sample at a time. Each string runs its own pass over
+// its modes (vectorised over the modes, as a lone voice does); the contact solves of the strings
+// whose step has one energy-conserving point are gathered, one string per SIMD lane, and solved
+// together (ContactLanes.h), so the latency of the solve's chain of divisions is paid once per step
+// for up to kContactLanes strings. Strings with other contact models take their whole step alone.
+// Silent strings are simply not passed in. RT: no allocation.
+
+#include "physics/ContactLanes.h"
+#include "realtime/Voice.h"
+
+#include <array>
+
+namespace jawari
+{
+
+class StringBank
+{
+public:
+    static constexpr int kMaxStrings = 16;
+
+    // RT: `samples` host samples of `count` (<= kMaxStrings) voices of one oversampling, at the
+    // internal rate and undecimated: voice i's oversampling() x samples values into out[i], each
+    // what voices[i]->processInternal() would write.
+    void process(Voice* const* voices, double* const* out, int count, int samples);
+
+private:
+    static constexpr int kBatches = (kMaxStrings + kContactLanes - 1) / kContactLanes;
+    std::array<ContactLaneBatch, kBatches> batches_;
+    std::array<int, kMaxStrings> lane_{};  // the string's lane (batch x kContactLanes + lane), or -1
+    std::array<ScalarContactSolution, kMaxStrings> alone_{};  // a string whose law differs from its batch's
+    void gather(Voice* const* voices, int count);
+    const ScalarContactSolution* solutionOf(int string) const;
+};
+
+}  // namespace jawari
