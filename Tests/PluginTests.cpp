@@ -242,7 +242,7 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::thermoelasticLoss, 1.38f},
                                                       {ids::inharmonicity, 1.78e-5f},
                                                       {ids::release, 0.4f},
-                                                      {ids::quality, 0.0f},
+                                                      {ids::quality, 1.0f},
                                                       {ids::method, 0.0f},
                                                       {ids::gain, 0.0f},
                                                       {ids::bendRange, 2.0f},

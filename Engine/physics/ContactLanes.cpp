@@ -66,16 +66,20 @@ using Mask = decltype(Vec{} < Vec{});  // per lane: all ones (true) or zero
 
 [[gnu::always_inline]] inline bool any(Mask m) { return bits(m) != 0; }
 
-// f(x) on the lanes of `m` (the libm calls the scalar solve makes, where it makes them), else `otherwise`.
+// f(x) on the lanes of `m` (the libm calls the scalar solve makes, where it makes them), else
+// `otherwise`; through an array, so the vector is stored and loaded once, not lane by lane.
 template <class F>
 [[gnu::always_inline]] inline Vec onLanes(Mask m, Vec x, Vec otherwise, F f)
 {
+    alignas(64) double in[kContactLanes], result[kContactLanes];
+    std::memcpy(in, &x, sizeof x);
+    std::memcpy(result, &otherwise, sizeof otherwise);
     for (unsigned b = bits(m); b != 0; b &= b - 1)
     {
         const int i = __builtin_ctz(b);
-        otherwise[i] = f(x[i]);
+        result[i] = f(in[i]);
     }
-    return otherwise;
+    return load(result);
 }
 
 // polynomial16 of ContactLaw.cpp (Estrin's scheme), lane by lane.
@@ -157,20 +161,35 @@ struct Lanes
     const Vec cs = c * sAlpha;
     const Vec A2 = cs * l.series.c[2], A1 = cs * l.series.c[1] + s, A0 = cs * l.series.c[0] + b;
     const Vec A1squared = A1 * A1, denominator = A1squared - A0 * A2;
-    const Vec e = select(denominator >= 0.5 * A1squared, -A0 * A1 / denominator, -A0 / A1);
+    // The divisions, the costliest vector operations, only where some lane takes their branch.
+    const Mask halley = denominator >= 0.5 * A1squared;
+    Vec e = -A0 * A1 / denominator;
+    if (any(want & positive & ~halley))
+        e = select(halley, e, -A0 / A1);
     const Vec model = s * (1.0 + e);
     // Phi(s) > 0: the nearest of the tangent at s, the linear bound and the model.
-    const Vec tangent = s - A0 / (c * beta * alpha / 2.0 * sAlpha / s + 1.0);
-    const Vec linear = (d - cs) / (cs / s + 1.0);
-    Vec above = select(tangent > 0.0, minimum(tangent, linear), linear);
-    above = select((model > 0.0) & (e > -0.5), minimum(above, model), above);
+    const Mask rootBelowS = A0 > 0.0;
+    Vec above = model;
+    if (any(want & positive & rootBelowS))
+    {
+        const Vec tangent = s - A0 / (c * beta * alpha / 2.0 * sAlpha / s + 1.0);
+        const Vec linear = (d - cs) / (cs / s + 1.0);
+        above = select(tangent > 0.0, minimum(tangent, linear), linear);
+        above = select((model > 0.0) & (e > -0.5), minimum(above, model), above);
+    }
     // Phi(s) <= 0: the model, or the bound c p^alpha = d.
-    const Mask bound = want & positive & ~(A0 > 0.0) & ~(e <= 1.0);
-    const Vec boundRoot = onLanes(bound, d / c, d, [alpha](double x) { return std::pow(x, 1.0 / alpha); });
-    const Vec below = select(e <= 1.0, model, minimum(d, boundRoot));
+    const Mask bound = want & positive & ~rootBelowS & ~(e <= 1.0);
+    Vec below = model;
+    if (any(bound))
+    {
+        const Vec boundRoot = onLanes(bound, d / c, d, [alpha](double x) { return std::pow(x, 1.0 / alpha); });
+        below = select(e <= 1.0, model, minimum(d, boundRoot));
+    }
     // A new contact: c p^beta = d (d - s).
-    const Vec fresh = onLanes(want & ~positive, d * (d - s) / c, d, [beta](double x) { return std::pow(x, 1.0 / beta); });
-    Vec p = select(positive, select(A0 > 0.0, above, below), fresh);
+    Vec fresh = d;
+    if (any(want & ~positive))
+        fresh = onLanes(want & ~positive, d * (d - s) / c, d, [beta](double x) { return std::pow(x, 1.0 / beta); });
+    Vec p = select(positive, select(rootBelowS, above, below), fresh);
     return select((p > 0.0) & (p <= d), p, d);
 }
 
@@ -190,7 +209,10 @@ struct Step
     const Vec phi = out.force - gap, dPhi = l.c * v.dD + 1.0;
     out.far = (gap > 4.0 * out.force) | ((out.force > 4.0 * gap) & (gap > 0.01 * p));
     const Vec dPhi2 = dPhi * dPhi, denominator = dPhi2 - 0.5 * phi * l.c * v.d2D;
-    out.step = select(denominator >= 0.5 * dPhi2, -phi * dPhi / denominator, -phi / dPhi);
+    const Mask halley = denominator >= 0.5 * dPhi2;
+    out.step = -phi * dPhi / denominator;
+    if (any(want & ~halley))
+        out.step = select(halley, out.step, -phi / dPhi);
     const Mask far = want & out.far;
     if (any(far))
     {

@@ -64,7 +64,7 @@ struct InstrumentStructure
     double pluckPosition = 0.5;     // fraction of the length
     double pickupPosition = 0.99;   // fraction of the length
     double inharmonicity = 1.78e-5;
-    int quality = 0;  // index into kQualitySettings (draft: eight strings in real time)
+    int quality = 1;  // index into kQualitySettings: standard (twelve strings in real time, docs/measurements.md)
     ContactMethod method = ContactMethod::energyConserving;
     double releaseSeconds = 0.4;
     double hostRateHz = 48000.0;
@@ -203,6 +203,7 @@ public:
     // there is nothing to glide from.
     void settleControls();
     void setScheduling(StringScheduling scheduling) { scheduling_ = scheduling; }  // RT
+    StringBank& bank() { return bank_; }
 
     // RT: numSamples of stereo at the host rate, replacing what is in left/right.
     void render(float* left, float* right, int numSamples);

@@ -27,7 +27,7 @@ struct QualitySetting
 // From cheap to the paper's configuration in real time.
 inline constexpr QualitySetting kQualitySettings[] = {
     {"draft", 24000.0, 192000.0},
-    {"standard", 48000.0, 384000.0},
+    {"standard", 51300.0, 288000.0},  // from the measured front (docs/measurements.md): M = 200 for the paper's string
     {"high", 96000.0, 768000.0},
     {"paper", 0.0, 1000000.0},  // every mode of the paper's grid (1001 for its string), >= 1 MHz
 };

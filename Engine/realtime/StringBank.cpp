@@ -8,9 +8,14 @@ namespace jawari
 void StringBank::process(Voice* const* voices, double* const* out, int count, int samples)
 {
     count = std::min(count, kMaxStrings);
+    for (int first = 0; first < count; first += groupSize_)
+        processGroup(voices + first, out + first, std::min(groupSize_, count - first), samples);
+}
+
+void StringBank::processGroup(Voice* const* voices, double* const* out, int count, int samples)
+{
     if (count == 0)
         return;
-
     const long steps = long(samples) * voices[0]->oversampling();
     for (long k = 0; k < steps; ++k)
     {
@@ -47,7 +52,7 @@ void StringBank::gather(Voice* const* voices, int count)
             batch->exponent = request.law.exponent;
             batch->series = request.series;
         }
-        if (request.law.exponent != batch->exponent)
+        if (solve_ == Solve::scalar || request.law.exponent != batch->exponent)
         {
             alone_[size_t(i)] = solveScalarContact(request);
             lane_[size_t(i)] = kMaxStrings + i;  // marks "solved alone"

@@ -20,12 +20,29 @@ class StringBank
 public:
     static constexpr int kMaxStrings = 16;
 
+    // How the bank steps its strings: in groups of `groupSize` strings, each group in lockstep
+    // through the whole call (a group's arrays stay in the first-level cache), with the group's
+    // one-point solves in SIMD lanes or one after the other (independent chains the core overlaps).
+    enum class Solve
+    {
+        lanes,
+        scalar
+    };
+    void configure(int groupSize, Solve solve)  // RT
+    {
+        groupSize_ = groupSize < 1 ? 1 : (groupSize > kMaxStrings ? kMaxStrings : groupSize);
+        solve_ = solve;
+    }
+
     // RT: `samples` host samples of `count` (<= kMaxStrings) voices of one oversampling, at the
     // internal rate and undecimated: voice i's oversampling() x samples values into out[i], each
     // what voices[i]->processInternal() would write.
     void process(Voice* const* voices, double* const* out, int count, int samples);
 
 private:
+    int groupSize_ = kMaxStrings;
+    Solve solve_ = Solve::lanes;
+    void processGroup(Voice* const* voices, double* const* out, int count, int samples);
     static constexpr int kBatches = (kMaxStrings + kContactLanes - 1) / kContactLanes;
     std::array<ContactLaneBatch, kBatches> batches_;
     std::array<int, kMaxStrings> lane_{};  // the string's lane (batch x kContactLanes + lane), or -1

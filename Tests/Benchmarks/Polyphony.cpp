@@ -7,6 +7,8 @@
 // Writes CSV: quality, scheduling, strings, mean_load, worst_load, realtime_factor_per_string.
 //
 //   jawari-polyphony [out.csv] [--seconds S]
+//   jawari-polyphony --bank-sweep [--seconds S]   twelve strings at standard: lone voices against the
+//                                                 bank in each group size, lanes or scalar solves
 
 #include "offline/CpuClock.h"
 #include "realtime/Instrument.h"
@@ -29,7 +31,14 @@ struct Load
 };
 
 // Plays `strings` strings for `seconds`: held notes C3 up in whole tones, the drone beyond eight.
-Load measure(int quality, StringScheduling scheduling, int strings, double seconds)
+struct Scheduling
+{
+    StringScheduling kind = StringScheduling::lone;
+    int group = StringBank::kMaxStrings;
+    StringBank::Solve solve = StringBank::Solve::lanes;
+};
+
+Load measure(int quality, Scheduling scheduling, int strings, double seconds)
 {
     constexpr double rate = 48000.0;
     constexpr int block = 512;
@@ -38,7 +47,8 @@ Load measure(int quality, StringScheduling scheduling, int strings, double secon
     structure.obstaclePosition = 0.006;
     auto pack = buildVoicePack(structure);
     Instrument instrument;
-    instrument.setScheduling(scheduling);
+    instrument.setScheduling(scheduling.kind);
+    instrument.bank().configure(scheduling.group, scheduling.solve);
     InstrumentControls controls;
     controls.drone = strings > kMidiVoices;
     controls.droneTempo = 200.0;  // the four drone strings all sounding within a second
@@ -70,9 +80,12 @@ int main(int argc, char** argv)
 {
     const char* path = nullptr;
     double seconds = 5.0;
+    bool sweep = false;
     for (int i = 1; i < argc; ++i)
     {
-        if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc)
+        if (std::strcmp(argv[i], "--bank-sweep") == 0)
+            sweep = true;
+        else if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc)
             seconds = std::atof(argv[++i]);
         else
             path = argv[i];
@@ -81,6 +94,22 @@ int main(int argc, char** argv)
     {
         std::fprintf(stderr, "jawari-polyphony: --seconds must be a positive number\n");
         return 2;
+    }
+    if (sweep)
+    {
+        const Load lone = measure(1, {}, 12, seconds);
+        std::printf("12 strings, standard: lone voices: mean %5.1f %%, worst block %5.1f %%\n", 100.0 * lone.mean,
+                    100.0 * lone.worst);
+        for (const auto solve : {StringBank::Solve::lanes, StringBank::Solve::scalar})
+            for (int group : {1, 2, 3, 4, 6, 12})
+            {
+                const Load load = measure(1, {StringScheduling::bank, group, solve}, 12, seconds);
+                std::printf("12 strings, standard: bank, groups of %2d, %s solves: mean %5.1f %%, worst block %5.1f %%\n",
+                            group, solve == StringBank::Solve::lanes ? "lanes " : "scalar", 100.0 * load.mean,
+                            100.0 * load.worst);
+                std::fflush(stdout);
+            }
+        return 0;
     }
     FILE* out = path != nullptr ? std::fopen(path, "w") : stdout;
     if (out == nullptr)
@@ -94,7 +123,7 @@ int main(int argc, char** argv)
             for (const auto scheduling : {StringScheduling::lone, StringScheduling::bank})
             {
                 const char* name = scheduling == StringScheduling::bank ? "bank" : "lone";
-                const Load load = measure(q, scheduling, strings, seconds);
+                const Load load = measure(q, {scheduling}, strings, seconds);
                 std::fprintf(out, "%s,%s,%d,%.4f,%.4f,%.4g\n", kQualitySettings[q].name, name, strings, load.mean,
                              load.worst, strings / load.mean);
                 std::fflush(out);
