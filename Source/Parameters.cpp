@@ -107,9 +107,9 @@ juce::StringArray namesOf(const Table& table, Name name)
 
 int contactMethodIndex(ContactMethod method)
 {
-    for (size_t i = 0; i < std::size(kContactMethods); ++i)
-        if (kContactMethods[i].method == method)
-            return static_cast<int>(i);
+    for (int i = 0; i < playerContactMethodCount(); ++i)
+        if (kContactMethods[size_t(i)].method == method)
+            return i;
     return 0;
 }
 
@@ -170,9 +170,10 @@ void addQualityAndOutput(Layout& layout)
     const auto& c = kControlDefaults;
     layout.add(choice(ids::quality, "Quality",
                       namesOf(kQualitySettings, [](const QualitySetting& q) { return q.name; }), s.quality));
-    layout.add(choice(ids::method, "Contact method",
-                      namesOf(kContactMethods, [](const ContactMethodName& m) { return m.playerName; }),
-                      contactMethodIndex(s.method)));
+    juce::StringArray methods;
+    for (int i = 0; i < playerContactMethodCount(); ++i)
+        methods.add(kContactMethods[size_t(i)].playerName);
+    layout.add(choice(ids::method, "Contact method", methods, contactMethodIndex(s.method)));
     layout.add(number(ids::gain, "Output gain", Range(-48.0f, 12.0f, 0.1f), c.gainDb, inUnit("dB", 1)));
     layout.add(number(ids::bendRange, "Pitch bend range", Range(0.0f, 12.0f, 1.0f), c.bendRangeSemitones,
                       inUnit("semitones", 0)));
@@ -253,7 +254,7 @@ ParameterReader::ParameterReader(juce::AudioProcessorValueTreeState& state)
 
 InstrumentStructure ParameterReader::structure(double hostRateHz) const
 {
-    constexpr int lastMethod = static_cast<int>(std::size(kContactMethods)) - 1;
+    constexpr int lastMethod = playerContactMethodCount() - 1;
     InstrumentStructure s;
     s.stringType = rounded(get(ids::stringType));
     s.shape = static_cast<ObstacleShape>(std::clamp(rounded(get(ids::obstacleShape)), 0, 2));

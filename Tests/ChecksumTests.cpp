@@ -99,12 +99,7 @@ Scene voiceScene(const char* name, ContactMethod method, double seconds)
 // A short script of what a player does: notes, a steal, a bend, the pedal, releases, the drone.
 uint64_t hashInstrument(ObstacleShape shape)
 {
-    InstrumentStructure structure;
-    structure.quality = 0;
-    structure.shape = shape;
-    structure.obstaclePosition = shape == ObstacleShape::parabola ? 0.03 : 0.006;
-    structure.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
-    auto pack = buildVoicePack(structure);
+    auto pack = buildVoicePack(test::scriptStructure(shape));
     Instrument instrument;
     instrument.install(pack.get(), nullptr);
     InstrumentControls controls;

@@ -1,6 +1,7 @@
 // The regularised contact law, its discrete gradient and the safeguarded Newton (docs/design.md section 2).
 
 #include "physics/ContactLanes.h"
+#include "physics/ContactSpline.h"
 #include "physics/ContactLaw.h"
 #include "physics/ContactSystem.h"
 
@@ -263,4 +264,48 @@ TEST_CASE("the lanes' contact solve gives each lane the scalar solve's solution 
     // so a solution may differ from the scalar one in its last bits (measured: 1.1e-13 at worst).
     CHECK(inContact > lanes / 4);
     CHECK(worst <= 1e-12);
+}
+
+TEST_CASE("the quadratic spline's force stays within its tolerance of K eta^alpha and its solve is exact for it")
+{
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (double alpha : {1.0, 1.3, 1.5, 2.0, 3.0})
+        for (double K : {1e7, 1e10, 1e13})
+        {
+            const ContactSpline spline({K, alpha});
+            // The force over the stated range, on a fine log grid (between the knots too).
+            double worstForce = 0.0;
+            for (int i = 0; i <= 6000; ++i)
+            {
+                const double eta = ContactSpline::kLowest * std::pow(10.0, 6.0 * i / 6000.0);
+                worstForce = std::max(worstForce, std::abs(spline.force(eta) / (K * std::pow(eta, alpha)) - 1.0));
+            }
+            // Random equations: the solution is the root of the spline's own equation (its chord
+            // slope), and near the exact law's root.
+            double worstResidual = 0.0;
+            int most = 0;
+            for (int n = 0; n < 2000; ++n)
+            {
+                const double k = std::pow(10.0, -12.0 + 2.0 * unit(rng)) * 1e13 / K;
+                const double s = 1e-5 * unit(rng) * std::pow(10.0, -2.0 * std::abs(unit(rng)));
+                const double b = 1e-5 * unit(rng) * std::pow(10.0, -2.0 * std::abs(unit(rng)));
+                const auto sol = spline.solve(s, b, k);
+                REQUIRE(std::isfinite(sol.r));
+                const double r = sol.r;
+                const double G = r != 0.0 ? (spline.potential(s - r) - spline.potential(s)) / r : sol.slope;
+                const double scale = std::abs(r) + std::abs(b) + std::abs(k * G);
+                worstResidual = std::max(worstResidual, std::abs(r + k * sol.slope - b) / scale);
+                if (std::abs(r) > 1e-9 * scale)
+                    REQUIRE(sol.slope == Approx(G).epsilon(1e-9).margin(1e-12 * std::abs(sol.slope) + 1e-300));
+                most = std::max(most, sol.iterations);
+            }
+            INFO("alpha " << alpha << ", K " << K << ": " << spline.knotCount() << " knots, worst force error "
+                          << worstForce << ", worst residual " << worstResidual << ", most bisection steps " << most);
+            CHECK(worstForce <= ContactSpline::kTolerance);
+            if (alpha > 1.0)
+                CHECK(worstForce > 0.5 * ContactSpline::kTolerance);  // the knots are as sparse as allowed
+            CHECK(worstResidual < 1e-12);
+            CHECK(most <= 8);
+        }
 }

@@ -60,11 +60,7 @@ struct Difference
 
 Difference bankAgainstLone(ObstacleShape shape)
 {
-    InstrumentStructure structure;
-    structure.quality = 0;
-    structure.shape = shape;
-    structure.obstaclePosition = shape == ObstacleShape::parabola ? 0.03 : 0.006;
-    structure.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+    const InstrumentStructure structure = test::scriptStructure(shape);
     auto lone = buildVoicePack(structure);
     auto banked = buildVoicePack(structure);
     const int os = lone->oversampling;

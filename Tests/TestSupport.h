@@ -4,6 +4,7 @@
 #include "offline/DstTransform.h"
 #include "offline/Scene.h"
 #include "physics/ModalSolver.h"
+#include "realtime/Instrument.h"
 #include "realtime/Voice.h"
 
 #include <algorithm>
@@ -17,6 +18,18 @@ namespace jawari::test
 inline std::string resource(const std::string& name)
 {
     return std::string(JAWARI_RESOURCES_DIR) + "/" + name;
+}
+
+// The instrument strung for the scripted tests (checksums, the string bank): draft quality on a
+// point bridge at 6 mm, a 2 cm parabolic bridge at 3 cm, or the frets.
+inline InstrumentStructure scriptStructure(ObstacleShape shape)
+{
+    InstrumentStructure structure;
+    structure.quality = 0;
+    structure.shape = shape;
+    structure.obstaclePosition = shape == ObstacleShape::parabola ? 0.03 : 0.006;
+    structure.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+    return structure;
 }
 
 // The paper's string (docs/design.md section 3) with a chosen damping law.

@@ -39,6 +39,7 @@ METHOD_STYLE = {
     "newton-plain": ("energy-conserving Newton, plain truncation", "tab:cyan", "s"),
     "quadratised": ("energy-quadratised (no Newton)", "tab:orange", "^"),
     "penalty": ("explicit penalty", "tab:red", "x"),
+    "spline": ("quadratic-spline potential (closed form)", "tab:purple", "s"),
 }
 
 
@@ -106,13 +107,13 @@ def accuracy_chart(directory):
 
 def stability_chart(directory):
     data = rows(os.path.join(directory, "stability.csv"))
-    methods = ["energy-conserving", "quadratised", "penalty"]
+    methods = ["energy-conserving", "quadratised", "penalty", "quadratic-spline"]
     alphas = sorted({float(r["alpha"]) for r in data})
     rates = sorted({float(r["rate_hz"]) for r in data})
     stiffnesses = sorted({float(r["stiffness"]) for r in data})
     codes = {"ok": 0, "penetration": 1, "energy": 2, "nan": 3}
     cmap = ListedColormap(["#9bd39b", "#f2d16b", "#e8873a", "#c0392b"])
-    fig, axes = plt.subplots(len(methods), len(alphas), figsize=(16, 10), sharex=True, sharey=True)
+    fig, axes = plt.subplots(len(methods), len(alphas), figsize=(16, 13), sharex=True, sharey=True)
     for i, method in enumerate(methods):
         for j, alpha in enumerate(alphas):
             grid = [[0] * len(rates) for _ in stiffnesses]

@@ -14,21 +14,34 @@ enum class ContactMethod
 {
     energyConserving,  // the paper's discrete gradient, solved by Newton (the default)
     quadratised,       // energy quadratisation (scalar auxiliary variable): one linear solve, no Newton
-    penalty            // explicit penalty force at u^n: cheap, unstable when K dt^2 is large
+    penalty,           // explicit penalty force at u^n: cheap, unstable when K dt^2 is large
+    quadraticSpline    // the discrete gradient of a quadratic-spline potential: closed form, no Newton
 };
 
 struct ContactMethodName
 {
     ContactMethod method;
     const char* sceneName;   // "method" in a scene file, --method of jawari-render
-    const char* playerName;  // the plugin's choice
+    const char* playerName;  // the plugin's choice; nullptr: offline only
 };
 
 inline constexpr ContactMethodName kContactMethods[] = {
     {ContactMethod::energyConserving, "realtime", "energy-conserving"},
     {ContactMethod::quadratised, "quadratised", "quadratised"},
     {ContactMethod::penalty, "penalty", "penalty"},
+    // Offline only: its knots are built for the law when the solver is built, so the plugin's
+    // automation of stiffness and exponent would rebuild them on the audio thread.
+    {ContactMethod::quadraticSpline, "spline", nullptr},
 };
+
+// The plugin offers the methods with a player's name, the first entries of the table.
+constexpr int playerContactMethodCount()
+{
+    int n = 0;
+    for (const auto& m : kContactMethods)
+        n += m.playerName != nullptr ? 1 : 0;
+    return n;
+}
 
 constexpr const ContactMethodName& contactMethodName(ContactMethod method)
 {

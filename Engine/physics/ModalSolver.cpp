@@ -134,6 +134,15 @@ void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::
         pointCoupling_.col(j) /= contacts_[j].weight;
     quadratised_.prepare(P_);
     system_.prepare(contacts_, std::move(A));
+    if (method_ == ContactMethod::quadraticSpline)
+    {
+        // Closed form per point: the points must not be coupled (one point, or the reference grid).
+        if (!system_.isDiagonal())
+            throw std::invalid_argument("the quadratic-spline contact needs decoupled contact points: one point, "
+                                        "or a distributed obstacle on the reference grid");
+        for (const auto& c : contacts_)
+            splines_.emplace_back(c.law);
+    }
 }
 
 void ModalSolver::setState(const std::vector<double>& current, const std::vector<double>& previous)
@@ -244,11 +253,15 @@ double ModalSolver::obstacleEnergy() const
 // sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2 for the points' displacements u at n and n-1.
 double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev) const
 {
+    auto psi = [&](int j, double penetration) {
+        return method_ == ContactMethod::quadraticSpline ? splines_[size_t(j)].potential(penetration)
+                                                         : contactPotential(contacts_[j].law, penetration);
+    };
     double sum = 0.0;
     for (int j = 0; j < P_; ++j)
         sum += contacts_[j].weight * 0.5
-               * (contactPotential(contacts_[j].law, contacts_[j].height - u[j] - compliance_.delta(j))
-                  + contactPotential(contacts_[j].law, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
+               * (psi(j, contacts_[j].height - u[j] - compliance_.delta(j))
+                  + psi(j, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
     return sum;
 }
 
@@ -317,9 +330,13 @@ void ModalSolver::startFrom(const double* modalDisplacement)
 
 void ModalSolver::setContact(int j, const ContactLaw& law, double height)
 {
+    const bool lawChanged = contacts_[size_t(j)].law.stiffness != law.stiffness
+                            || contacts_[size_t(j)].law.exponent != law.exponent;
     contacts_[size_t(j)].law = law;
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, law);
+    if (method_ == ContactMethod::quadraticSpline && lawChanged)
+        splines_[size_t(j)] = ContactSpline(law);
 }
 
 void ModalSolver::displacementAt(const double* shapes, int count, double* out)
@@ -370,6 +387,8 @@ int ModalSolver::solveContacts()
         penetration_[j] = contacts_[j].height - uC_[j] - compliance_.delta(j);
     if (method_ == ContactMethod::penalty)
         return PenaltyContact::solve(contacts_, penetration_.data(), slope_.data());
+    if (method_ == ContactMethod::quadraticSpline)
+        return solveSplines();
     return quadratised_.solve(contacts_, penetration_.data(), b_.data(), pointCoupling_, slope_.data());
 }
 
@@ -410,6 +429,21 @@ void ModalSolver::finishPairStep()
         state_.setPairMiddle(c);
     else
         state_.setPairBoundary(c);
+}
+
+// The quadratic-spline method: each point's scalar equation in closed form, on the diagonal of
+// the coupling (with any residual compliance).
+int ModalSolver::solveSplines()
+{
+    int most = 0;
+    for (int j = 0; j < P_; ++j)
+    {
+        const auto sol = splines_[size_t(j)].solve(s_[j], b_[j], system_.coupling()(j, j));
+        r_[j] = sol.r;
+        slope_[j] = sol.slope;
+        most = std::max(most, sol.iterations);
+    }
+    return most;
 }
 
 void ModalSolver::stepSingle()

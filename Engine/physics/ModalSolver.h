@@ -16,6 +16,7 @@
 // PenaltyContact), the residual compliance (ResidualCompliance) and the transform (GridTransform).
 
 #include "physics/ContactMethod.h"
+#include "physics/ContactSpline.h"
 #include "physics/ContactSystem.h"
 #include "physics/ExactOscillator.h"
 #include "physics/GridTransform.h"
@@ -103,7 +104,8 @@ public:
     // frequency is scaled by r) and the pickup weights by `pickupScale`. The state (q^n, q^{n-1})
     // carries over. No allocation.
     void retune(const double* omega, const double* sigma, double complianceScale, double pickupScale = 1.0);
-    // RT: the law and height of contact point j (the obstacle's automation). No allocation.
+    // RT: the law and height of contact point j (the obstacle's automation). No allocation, except
+    // with the quadratic-spline method, whose knots a new law rebuilds (offline only).
     void setContact(int j, const ContactLaw& law, double height);
     const ContactPoint& contact(int j) const { return contacts_[size_t(j)]; }
     const std::vector<double>& omega() const { return omega_; }
@@ -169,6 +171,7 @@ private:
     void applyContactForces();
     void endSingleStep();
     int solveContacts();                  // slope_ from s_, b_ by the configured method
+    int solveSplines();
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
@@ -205,6 +208,7 @@ private:
     ContactMethod method_ = ContactMethod::energyConserving;
     ContactSystem system_;  // the energy-conserving Newton
     QuadratisedContact quadratised_;
+    std::vector<ContactSpline> splines_;  // per point, the quadratic-spline method's potential
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_, penetration_, pointForce_;
     std::vector<ContactPoint> contacts_;
     std::unique_ptr<GridTransform> transform_;

@@ -46,7 +46,8 @@ int main(int argc, char** argv)
     const Variant variants[] = {{"newton", ContactMethod::energyConserving, true},
                                 {"newton-plain", ContactMethod::energyConserving, false},
                                 {"quadratised", ContactMethod::quadratised, true},
-                                {"penalty", ContactMethod::penalty, true}};
+                                {"penalty", ContactMethod::penalty, true},
+                                {"spline", ContactMethod::quadraticSpline, true}};
 
     struct Config
     {

@@ -31,7 +31,8 @@ int main(int argc, char** argv)
         const char* name;
     } methods[] = {{ContactMethod::energyConserving, "energy-conserving"},
                    {ContactMethod::quadratised, "quadratised"},
-                   {ContactMethod::penalty, "penalty"}};
+                   {ContactMethod::penalty, "penalty"},
+                   {ContactMethod::quadraticSpline, "quadratic-spline"}};
     for (const auto& m : methods)
         for (double alpha : {1.0, 1.3, 2.0, 3.0})
             for (int e = 6; e <= 16; ++e)
