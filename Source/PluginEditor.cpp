@@ -95,11 +95,13 @@ const ControlSpec kControls[] = {
      "in: more buzz) and slides (its damping) by itself; channel 1 moves every note."},
     {"MIDI", ids::mpeBendRange, "MPE bend", "How far a note's own pitch bend goes under MPE, each way."},
     {"Quality", ids::quality, "Quality",
-     "How much of the model runs: draft (eight strings and the drone in real time on one core), standard, "
-     "high or paper (the most modes and the highest internal rate)."},
+     "How much of the model runs: standard (eight strings and the drone in real time on one core), draft "
+     "for weak machines, high or paper (the most modes and the highest internal rate)."},
     {"Quality", ids::method, "Contact",
      "How the contact force is found each step: energy-conserving (the paper's scheme, never gains energy), "
-     "quadratised (no iteration) or penalty (explicit, cheapest; unstable on hard obstacles)."},
+     "quadratised (no iteration), penalty (explicit, cheapest; unstable on hard obstacles) or quadratic spline "
+     "(the paper's scheme on a contact force within 1 % of the law, solved without iteration; a bridge's or "
+     "the frets' several points take the energy-conserving method)."},
 };
 static_assert(std::size(kControls) == kParameterCount);
 

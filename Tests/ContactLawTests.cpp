@@ -308,4 +308,6 @@ TEST_CASE("the quadratic spline's force stays within its tolerance of K eta^alph
             CHECK(worstResidual < 1e-12);
             CHECK(most <= 8);
         }
+    // The plugin's steepest law is rebuilt within the reserved capacity (setLaw does not allocate).
+    CHECK(ContactSpline({1e13, 4.0}).knotCount() <= ContactSpline::kReservedKnots);
 }

@@ -222,7 +222,8 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
         return choice->choices;
     };
     CHECK(choicesOf(ids::quality) == juce::StringArray{"draft", "standard", "high", "paper"});
-    CHECK(choicesOf(ids::method) == juce::StringArray{"energy-conserving", "quadratised", "penalty"});
+    CHECK(choicesOf(ids::method)
+          == juce::StringArray{"energy-conserving", "quadratised", "penalty", "quadratic spline"});
 
     // The defaults as the player sees them: the engine's InstrumentControls and InstrumentStructure
     // defaults, some in other units, and the plugin's own bridge and pickup positions.
@@ -243,7 +244,7 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::inharmonicity, 1.78e-5f},
                                                       {ids::release, 0.4f},
                                                       {ids::quality, 1.0f},
-                                                      {ids::method, 0.0f},
+                                                      {ids::method, 3.0f},
                                                       {ids::gain, 0.0f},
                                                       {ids::bendRange, 2.0f},
                                                       {ids::drone, 0.0f},

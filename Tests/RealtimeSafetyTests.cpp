@@ -151,7 +151,8 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
     // Every obstacle shape (one point, a parabolic bridge, five frets) and every method.
     // Each voice alone and the string bank.
     for (const auto shape : {ObstacleShape::point, ObstacleShape::parabola, ObstacleShape::frets})
-        for (const auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty})
+        for (const auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty,
+                                  ContactMethod::quadraticSpline})
             for (const auto scheduling : {StringScheduling::lone, StringScheduling::bank})
         {
             InstrumentStructure s;

@@ -20,12 +20,13 @@ inline std::string resource(const std::string& name)
     return std::string(JAWARI_RESOURCES_DIR) + "/" + name;
 }
 
-// The instrument strung for the scripted tests (checksums, the string bank): draft quality on a
-// point bridge at 6 mm, a 2 cm parabolic bridge at 3 cm, or the frets.
+// The instrument strung for the scripted tests (checksums, the string bank): draft quality and the
+// energy-conserving Newton on a point bridge at 6 mm, a 2 cm parabolic bridge at 3 cm, or the frets.
 inline InstrumentStructure scriptStructure(ObstacleShape shape)
 {
     InstrumentStructure structure;
     structure.quality = 0;
+    structure.method = ContactMethod::energyConserving;
     structure.shape = shape;
     structure.obstaclePosition = shape == ObstacleShape::parabola ? 0.03 : 0.006;
     structure.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;

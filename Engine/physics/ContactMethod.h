@@ -29,9 +29,7 @@ inline constexpr ContactMethodName kContactMethods[] = {
     {ContactMethod::energyConserving, "realtime", "energy-conserving"},
     {ContactMethod::quadratised, "quadratised", "quadratised"},
     {ContactMethod::penalty, "penalty", "penalty"},
-    // Offline only: its knots are built for the law when the solver is built, so the plugin's
-    // automation of stiffness and exponent would rebuild them on the audio thread.
-    {ContactMethod::quadraticSpline, "spline", nullptr},
+    {ContactMethod::quadraticSpline, "spline", "quadratic spline"},
 };
 
 // The plugin offers the methods with a player's name, the first entries of the table.

@@ -11,26 +11,25 @@ namespace
 {
 
 // The largest relative error of the chord of x^alpha over [1, rho] (the same on [a, rho a] for
-// any a): (1 + (rho^alpha - 1) t) / (1 + (rho - 1) t)^alpha - 1, >= 0 for alpha >= 1.
+// any a). The chord over the power is R(X) = (1 + c (X - 1)) / X^alpha with c = (rho^alpha - 1) /
+// (rho - 1); R' = 0 at X* = alpha (c - 1) / (c (alpha - 1)), inside [1, rho] for alpha > 1.
 double chordError(double alpha, double rho)
 {
-    const double top = std::pow(rho, alpha) - 1.0;
-    double worst = 0.0;
-    for (int i = 1; i < 256; ++i)
-    {
-        const double t = i / 256.0;
-        worst = std::max(worst, (1.0 + top * t) / std::pow(1.0 + (rho - 1.0) * t, alpha) - 1.0);
-    }
-    return worst;
+    if (alpha == 1.0)
+        return 0.0;
+    const double c = (std::pow(rho, alpha) - 1.0) / (rho - 1.0);
+    const double x = std::clamp(alpha * (c - 1.0) / (c * (alpha - 1.0)), 1.0, rho);
+    return (1.0 + c * (x - 1.0)) / std::pow(x, alpha) - 1.0;
 }
 
-// The largest knot ratio whose chords stay within the tolerance (at most 10).
+// The largest knot ratio whose chords stay within the tolerance (at most 10): a bisection in
+// log rho, 48 halvings of the bracket [1, 10].
 double knotRatio(double alpha, double tolerance)
 {
     double low = 1.0, high = 10.0;
     if (chordError(alpha, high) <= tolerance)
         return high;
-    for (int i = 0; i < 60; ++i)
+    for (int i = 0; i < 48; ++i)
     {
         const double mid = std::sqrt(low * high);
         (chordError(alpha, mid) <= tolerance ? low : high) = mid;
@@ -41,11 +40,19 @@ double knotRatio(double alpha, double tolerance)
 }  // namespace
 
 ContactSpline::ContactSpline(const ContactLaw& law)
-    : law_(law)
+{
+    for (auto* v : {&eta_, &f_, &slope_, &psi_})
+        v->reserve(kReservedKnots);
+    setLaw(law);
+}
+
+void ContactSpline::setLaw(const ContactLaw& law)
 {
     if (!(law.stiffness > 0.0) || !(law.exponent >= 1.0))
         throw std::invalid_argument("the quadratic-spline contact needs K > 0 and alpha >= 1");
-    const double rho = knotRatio(law.exponent, 0.99 * kTolerance);  // 1 % below: the error is sampled
+    law_ = law;
+    const double rho = knotRatio(law.exponent, kTolerance);
+    eta_.clear();
     eta_.push_back(0.0);
     for (double eta = kLowest; eta_.back() < kHighest; eta *= rho)
         eta_.push_back(eta);
@@ -87,10 +94,10 @@ double ContactSpline::potential(double penetration) const
     return psi_[i] + x * (f_[i] + 0.5 * slope_[i] * x);
 }
 
-double ContactSpline::q(double s, double b, double k, double psiS, double p) const
+double ContactSpline::q(double s, double b, double k, double psiS, int knot) const
 {
-    const double r = s - p;
-    return r * r - b * r + k * (potential(p) - psiS);
+    const double r = s - eta_[size_t(knot)];
+    return r * r - b * r + k * (psi_[size_t(knot)] - psiS);
 }
 
 ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
@@ -116,17 +123,17 @@ ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
     const int n = knotCount();
     int lo = 0;
     int hi = std::min(n, interval(d) + 1);
-    auto positive = [&](double p) {
-        const double r = s - p;
+    auto positive = [&](int knot) {
+        const double r = s - eta_[size_t(knot)];
         if (r == 0.0)
             return -k * force(s) - b > 0.0;
-        return (q(s, b, k, psiS, p) > 0.0) == (r > 0.0);
+        return (q(s, b, k, psiS, knot) > 0.0) == (r > 0.0);
     };
     while (hi - lo > 1)
     {
         const int mid = (lo + hi) / 2;
         ++sol.iterations;
-        (positive(eta_[size_t(mid)]) ? lo : hi) = mid;
+        (positive(mid) ? lo : hi) = mid;
     }
     // On interval lo the potential is psi_j + x (f_j + m x / 2), x = p - eta_j = c0 - r with
     // c0 = s - eta_j: Q(r) = a r^2 - B r + C.

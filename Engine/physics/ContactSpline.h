@@ -32,7 +32,13 @@ public:
     static constexpr double kLowest = 1e-9;     // m of penetration
     static constexpr double kHighest = 1e-3;    // m: beyond any scene's penetration
 
+    // Capacity kept for the knots: every exponent up to 4 (the plugin's range, 180 knots at most)
+    // is rebuilt without allocating.
+    static constexpr int kReservedKnots = 192;
+
     explicit ContactSpline(const ContactLaw& law);  // OFF: the knots for the law
+    // RT for exponents up to 4 (no allocation; about 200 pows): the knots for a new law.
+    void setLaw(const ContactLaw& law);
 
     const ContactLaw& law() const { return law_; }
     int knotCount() const { return static_cast<int>(eta_.size()); }
@@ -46,8 +52,8 @@ public:
 
 private:
     int interval(double penetration) const;  // i with eta_i <= penetration < eta_{i+1} (the last extends)
-    // Q(r) = r (r + k G(r) - b) for the penetration p = s - r, given psi(s).
-    double q(double s, double b, double k, double psiS, double p) const;
+    // Q(r) = r (r + k G(r) - b) at the knot's penetration (p = s - r = eta_knot), given psi(s).
+    double q(double s, double b, double k, double psiS, int knot) const;
 
     ContactLaw law_;
     std::vector<double> eta_;    // knots

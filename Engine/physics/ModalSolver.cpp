@@ -336,7 +336,7 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, law);
     if (method_ == ContactMethod::quadraticSpline && lawChanged)
-        splines_[size_t(j)] = ContactSpline(law);
+        splines_[size_t(j)].setLaw(law);
 }
 
 void ModalSolver::displacementAt(const double* shapes, int count, double* out)

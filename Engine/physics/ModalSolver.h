@@ -104,8 +104,8 @@ public:
     // frequency is scaled by r) and the pickup weights by `pickupScale`. The state (q^n, q^{n-1})
     // carries over. No allocation.
     void retune(const double* omega, const double* sigma, double complianceScale, double pickupScale = 1.0);
-    // RT: the law and height of contact point j (the obstacle's automation). No allocation, except
-    // with the quadratic-spline method, whose knots a new law rebuilds (offline only).
+    // RT: the law and height of contact point j (the obstacle's automation). No allocation (the
+    // quadratic-spline method rebuilds its knots within their reserved capacity: ContactSpline).
     void setContact(int j, const ContactLaw& law, double height);
     const ContactPoint& contact(int j) const { return contacts_[size_t(j)]; }
     const std::vector<double>& omega() const { return omega_; }

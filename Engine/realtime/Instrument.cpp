@@ -109,7 +109,11 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     config.oversampling = quality.oversampling;
     config.hostRateHz = structure.hostRateHz;
     config.releaseSeconds = std::max(structure.releaseSeconds, 0.01);
-    config.method = structure.method;
+    // The quadratic spline solves decoupled points in closed form; the coupled points of a bridge
+    // or of the frets take the energy-conserving Newton, the scheme it approximates.
+    config.method = structure.method == ContactMethod::quadraticSpline && structure.shape != ObstacleShape::point
+                        ? ContactMethod::energyConserving
+                        : structure.method;
     config.keepEveryMode = true;
     const ModalSolverConfig solverConfig = voiceSolverConfig(config);
     for (int i = 0; i < kSlots; ++i)

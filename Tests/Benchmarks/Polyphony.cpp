@@ -6,7 +6,7 @@
 // the string bank. Measures and reports; never asserts.
 // Writes CSV: quality, scheduling, strings, mean_load, worst_load, realtime_factor_per_string.
 //
-//   jawari-polyphony [out.csv] [--seconds S]
+//   jawari-polyphony [out.csv] [--seconds S] [--method realtime|quadratised|penalty|spline]
 //   jawari-polyphony --bank-sweep [--seconds S]   twelve strings at standard: lone voices against the
 //                                                 bank in each group size, lanes or scalar solves
 
@@ -31,6 +31,8 @@ struct Load
 };
 
 // Plays `strings` strings for `seconds`: held notes C3 up in whole tones, the drone beyond eight.
+ContactMethod gMethod = ContactMethod::energyConserving;  // --method: every measurement's contact method
+
 struct Scheduling
 {
     StringScheduling kind = StringScheduling::lone;
@@ -44,6 +46,7 @@ Load measure(int quality, Scheduling scheduling, int strings, double seconds)
     constexpr int block = 512;
     InstrumentStructure structure;
     structure.quality = quality;
+    structure.method = gMethod;
     structure.obstaclePosition = 0.006;
     auto pack = buildVoicePack(structure);
     Instrument instrument;
@@ -85,6 +88,16 @@ int main(int argc, char** argv)
     {
         if (std::strcmp(argv[i], "--bank-sweep") == 0)
             sweep = true;
+        else if (std::strcmp(argv[i], "--method") == 0 && i + 1 < argc)
+        {
+            const auto method = contactMethodFromSceneName(argv[++i]);
+            if (!method)
+            {
+                std::fprintf(stderr, "jawari-polyphony: --method: realtime, quadratised, penalty or spline\n");
+                return 2;
+            }
+            gMethod = *method;
+        }
         else if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc)
             seconds = std::atof(argv[++i]);
         else
