@@ -31,7 +31,7 @@ struct Load
 };
 
 // Plays `strings` strings for `seconds`: held notes C3 up in whole tones, the drone beyond eight.
-ContactMethod gMethod = ContactMethod::energyConserving;  // --method: every measurement's contact method
+ContactMethod gMethod = InstrumentStructure{}.method;  // --method: every measurement's contact method
 
 struct Scheduling
 {
