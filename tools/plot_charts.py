@@ -160,7 +160,7 @@ def scaling_chart(directory):
 def polyphony_chart(directory):
     data = rows(os.path.join(directory, "polyphony.csv"))
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
-    for quality, colour in (("draft", "tab:green"), ("standard", "tab:blue")):
+    for quality, colour in (("draft", "tab:green"), ("standard", "tab:blue"), ("high", "tab:purple")):
         for scheduling, style in (("lone", "-"), ("bank", ":")):
             q = [r for r in data if r["quality"] == quality and r.get("scheduling", "lone") == scheduling]
             if not q:

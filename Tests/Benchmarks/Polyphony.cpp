@@ -1,5 +1,5 @@
 // The instrument's cost against the number of sounding strings: 1, 2, 4, 8 and 12 strings (up to
-// eight held notes, then the drone's four) at each quality, on the tanpura bridge (the Default
+// eight held notes, then the drone's four) at draft, standard and high, on the tanpura bridge (the Default
 // structure: a point bridge at x = 6 mm), 48 kHz in 512-sample blocks, one core. Reports the load
 // (CPU time over audio time, mean and worst block) and the real-time factor per string (the
 // instrument's real-time factor times its string count), with the strings stepped each alone and by
@@ -131,7 +131,7 @@ int main(int argc, char** argv)
         return 1;
     }
     std::fprintf(out, "quality,scheduling,strings,mean_load,worst_load,realtime_factor_per_string\n");
-    for (int q = 0; q < 2; ++q)  // draft and standard: what plays in real time
+    for (int q = 0; q < 3; ++q)  // draft, standard and high
         for (int strings : {1, 2, 4, 8, 12})
             for (const auto scheduling : {StringScheduling::lone, StringScheduling::bank})
             {
