@@ -294,10 +294,16 @@ TEST_CASE("MPE: one note bends on its own channel while another holds its pitch;
     CHECK(instrument.activeStrings() == 1);
 }
 
-TEST_CASE("The MIDI strings spread across the stereo field by pitch, and width 0 is mono", "[instrument]")
+TEST_CASE("The MIDI strings spread across the stereo field by pitch with a second pickup on the right, and width 0 "
+          "is mono",
+          "[instrument]")
 {
-    // Renders one note and returns the level of the right channel over the left.
-    auto rightOverLeft = [](int note, double width) {
+    // Renders one note: the level of the right channel over the left, and their correlation.
+    struct Image
+    {
+        double rightOverLeft = 0.0, correlation = 0.0;
+    };
+    auto image = [](int note, double width) {
         auto pack = buildVoicePack(freeStructure());
         Instrument instrument;
         auto c = freeControls();
@@ -307,20 +313,29 @@ TEST_CASE("The MIDI strings spread across the stereo field by pitch, and width 0
         instrument.noteOn(note, 0.8);
         std::vector<float> l(4800), r(4800);
         instrument.render(l.data(), r.data(), 4800);
-        double left = 0.0, right = 0.0;
+        double left = 0.0, right = 0.0, both = 0.0;
         for (size_t n = 0; n < l.size(); ++n)
         {
             left += double(l[n]) * l[n];
             right += double(r[n]) * r[n];
+            both += double(l[n]) * r[n];
         }
-        return std::sqrt(right / left);
+        return Image{std::sqrt(right / left), both / std::sqrt(left * right + 1e-300)};
     };
-    // Equal power: a pan p gives right/left = sqrt((1 + p) / (1 - p)).
-    const double low = rightOverLeft(48, 1.0), high = rightOverLeft(96, 1.0), middle = rightOverLeft(60, 0.6);
-    INFO("right/left: C3 " << low << ", C7 " << high << ", C4 at width 0.6 " << middle);
-    CHECK(low < 1e-6);                                            // hard left
-    CHECK(high > 1e6);                                            // hard right
-    CHECK(middle == Approx(std::sqrt(0.7 / 1.3)).epsilon(1e-6));  // pan -0.3
-    CHECK(rightOverLeft(48, 0.0) == Approx(1.0).epsilon(1e-12));  // mono
-    CHECK(rightOverLeft(90, 0.0) == Approx(1.0).epsilon(1e-12));
+    const Image low = image(48, 1.0), high = image(96, 1.0), middle = image(60, 0.6), mono = image(60, 0.0);
+    INFO("right/left: C3 " << low.rightOverLeft << ", C7 " << high.rightOverLeft << ", C4 at width 0.6 "
+                           << middle.rightOverLeft << " (correlation " << middle.correlation << "), at width 0 "
+                           << mono.rightOverLeft << " (correlation " << mono.correlation << ")");
+    CHECK(low.rightOverLeft < 1e-6);  // hard left
+    CHECK(high.rightOverLeft > 1e6);  // hard right
+    // Width 0.6: pan -0.3 (equal power: right/left = sqrt(0.7 / 1.3) = 0.73 for one pickup), the
+    // right channel 0.4 of the first pickup and 0.6 of the second (at the first's level), so near
+    // that level but not a copy of the left.
+    CHECK(middle.rightOverLeft == Approx(std::sqrt(0.7 / 1.3)).epsilon(0.1));
+    CHECK(middle.correlation < 0.999);
+    CHECK(middle.correlation > 0.0);
+    // Width 0: mono, the right channel the left's copy.
+    CHECK(mono.rightOverLeft == Approx(1.0).epsilon(1e-12));
+    CHECK(mono.correlation == Approx(1.0).epsilon(1e-12));
+    CHECK(image(90, 0.0).rightOverLeft == Approx(1.0).epsilon(1e-12));
 }

@@ -34,52 +34,73 @@ inline double horizontalSum(const double* partial)
     return sum8(t);
 }
 
-// q~ = a q - e qPrev written over qPrev; returns h . q~ (the single-step path; contact
-// projections follow, after any explicit force has joined q~).
-inline double predict(const double* __restrict a, const double* __restrict e, const double* __restrict current,
-                      double* __restrict previous, const double* __restrict h, int M)
+// q~ = a q - e qPrev written over qPrev; returns h . q~, and h2 . q~ into `second` when h2 is
+// given (a second pickup). The single-step path; contact projections follow, after any explicit
+// force has joined q~.
+template <bool Second>
+inline double predictWith(const double* __restrict a, const double* __restrict e, const double* __restrict current,
+                          double* __restrict previous, const double* __restrict h, const double* __restrict h2, int M,
+                          double& second)
 {
-    alignas(64) double ph[kBlock] = {};
+    alignas(64) double ph[kBlock] = {}, ph2[kBlock] = {};
     int p = 0;
     for (; p + kBlock <= M; p += kBlock)
     {
-#pragma omp simd aligned(ph : 64)
+#pragma omp simd aligned(ph, ph2 : 64)
         for (int k = 0; k < kBlock; ++k)
         {
             const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
             previous[p + k] = next;
             ph[k] += h[p + k] * next;
+            if constexpr (Second)
+                ph2[k] += h2[p + k] * next;
         }
     }
     double y = horizontalSum(ph);
+    double y2 = Second ? horizontalSum(ph2) : 0.0;
     for (; p < M; ++p)
     {
         const double next = a[p] * current[p] - e[p] * previous[p];
         previous[p] = next;
         y += h[p] * next;
+        if constexpr (Second)
+            y2 += h2[p] * next;
     }
+    second = y2;
     return y;
+}
+
+inline double predict(const double* a, const double* e, const double* current, double* previous, const double* h,
+                      const double* h2, int M, double& second)
+{
+    return h2 != nullptr ? predictWith<true>(a, e, current, previous, h, h2, M, second)
+                         : predictWith<false>(a, e, current, previous, h, h2, M, second);
 }
 
 // predict() and the contact projections u_j = phi_j . q~ of up to kMaxFused points in the same pass
 // (phi_j at phi + j stride): one read of the state instead of 1 + P. M a multiple of 8. Returns
-// h . q~.
+// h . q~ (and h2 . q~ into `second` when h2 is given).
 inline constexpr int kMaxFused = 8;
-inline double predictProject(const double* __restrict a, const double* __restrict e, const double* __restrict current,
-                             double* __restrict previous, const double* __restrict h, const double* __restrict phi,
-                             int stride, int P, int M, double* __restrict u)
+template <bool Second>
+inline double predictProjectWith(const double* __restrict a, const double* __restrict e,
+                                 const double* __restrict current, double* __restrict previous,
+                                 const double* __restrict h, const double* __restrict h2,
+                                 const double* __restrict phi, int stride, int P, int M, double* __restrict u,
+                                 double& second)
 {
-    alignas(64) double ph[8] = {};
+    alignas(64) double ph[8] = {}, ph2[8] = {};
     alignas(64) double pu[kMaxFused][8] = {};
     for (int p = 0; p < M; p += 8)
     {
         alignas(64) double next[8];
-#pragma omp simd aligned(ph, next : 64)
+#pragma omp simd aligned(ph, ph2, next : 64)
         for (int k = 0; k < 8; ++k)
         {
             next[k] = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
             previous[p + k] = next[k];
             ph[k] += h[p + k] * next[k];
+            if constexpr (Second)
+                ph2[k] += h2[p + k] * next[k];
         }
         for (int j = 0; j < P; ++j)
         {
@@ -91,7 +112,16 @@ inline double predictProject(const double* __restrict a, const double* __restric
     }
     for (int j = 0; j < P; ++j)
         u[j] = sum8(pu[j]);
+    second = Second ? sum8(ph2) : 0.0;
     return sum8(ph);
+}
+
+inline double predictProject(const double* a, const double* e, const double* current, double* previous,
+                             const double* h, const double* h2, const double* phi, int stride, int P, int M, double* u,
+                             double& second)
+{
+    return h2 != nullptr ? predictProjectWith<true>(a, e, current, previous, h, h2, phi, stride, P, M, u, second)
+                         : predictProjectWith<false>(a, e, current, previous, h, h2, phi, stride, P, M, u, second);
 }
 
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
@@ -101,18 +131,28 @@ inline double predictProject(const double* __restrict a, const double* __restric
 // and leaves as X = q~^{m+1} = a q^m - e q^{m-1}, Y = a X - e q^m (q~^{m+2} before step m+1's
 // correction, which the caller folds in as c1 a phi), settled = q^m, with h . and phi . of X and Y.
 // Per two steps: six loads and three stores per mode, against twelve and four for two single
-// steps; the state stays in registers between the steps. phi may be null (no contact point).
-inline void pairStep(const double* __restrict a, const double* __restrict e, double* __restrict X, double* __restrict Y,
-                     double* __restrict settled, const double* __restrict h, const double* __restrict phi, double c1,
-                     double c2, int M, double& pickup1, double& contact1, double& pickup2, double& contact2)
+// steps; the state stays in registers between the steps. phi may be null (no contact point); h2
+// (a second pickup) may be null.
+struct PairReadout
+{
+    double pickup1 = 0.0, contact1 = 0.0, pickup2 = 0.0, contact2 = 0.0;
+    double second1 = 0.0, second2 = 0.0;  // h2 . X and h2 . Y
+};
+
+template <bool Second>
+inline void pairStepWith(const double* __restrict a, const double* __restrict e, double* __restrict X,
+                         double* __restrict Y, double* __restrict settled, const double* __restrict h,
+                         const double* __restrict h2, const double* __restrict phi, double c1, double c2, int M,
+                         PairReadout& out)
 {
     alignas(64) double ph1[kBlock] = {}, pc1[kBlock] = {}, ph2[kBlock] = {}, pc2[kBlock] = {};
+    alignas(64) double sh1[kBlock] = {}, sh2[kBlock] = {};
     static constexpr double zeros[kBlock] = {};
     int p = 0;
     for (; p + kBlock <= M; p += kBlock)
     {
         const double* __restrict ph = phi != nullptr ? phi + p : zeros;
-#pragma omp simd aligned(ph1, pc1, ph2, pc2 : 64)
+#pragma omp simd aligned(ph1, pc1, ph2, pc2, sh1, sh2 : 64)
         for (int k = 0; k < kBlock; ++k)
         {
             const double ak = a[p + k];
@@ -127,9 +167,15 @@ inline void pairStep(const double* __restrict a, const double* __restrict e, dou
             pc1[k] += ph[k] * t1;
             ph2[k] += h[p + k] * t2;
             pc2[k] += ph[k] * t2;
+            if constexpr (Second)
+            {
+                sh1[k] += h2[p + k] * t1;
+                sh2[k] += h2[p + k] * t2;
+            }
         }
     }
     double y1 = horizontalSum(ph1), u1 = horizontalSum(pc1), y2 = horizontalSum(ph2), u2 = horizontalSum(pc2);
+    double s1 = Second ? horizontalSum(sh1) : 0.0, s2 = Second ? horizontalSum(sh2) : 0.0;
     for (; p < M; ++p)
     {
         const double ph = phi != nullptr ? phi[p] : 0.0;
@@ -144,11 +190,22 @@ inline void pairStep(const double* __restrict a, const double* __restrict e, dou
         u1 += ph * t1;
         y2 += h[p] * t2;
         u2 += ph * t2;
+        if constexpr (Second)
+        {
+            s1 += h2[p] * t1;
+            s2 += h2[p] * t2;
+        }
     }
-    pickup1 = y1;
-    contact1 = u1;
-    pickup2 = y2;
-    contact2 = u2;
+    out = {y1, u1, y2, u2, s1, s2};
+}
+
+inline void pairStep(const double* a, const double* e, double* X, double* Y, double* settled, const double* h,
+                     const double* h2, const double* phi, double c1, double c2, int M, PairReadout& out)
+{
+    if (h2 != nullptr)
+        pairStepWith<true>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, out);
+    else
+        pairStepWith<false>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, out);
 }
 
 // x . y

@@ -25,7 +25,8 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     if (!(dt_ > 0.0) || !(mu_ > 0.0) || !(config.lengthMetres > 0.0))
         throw std::invalid_argument("the modal solver needs a positive time step, density and length");
     buildModeTables(config);
-    for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_, &penetration_, &pointForce_})
+    for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_, &pickupPhiWB_, &penetration_,
+                    &pointForce_})
         v->assign(P_, 0.0);
     if (config.transform && P_ > 0)
         transform_ = config.transform(contacts_, lengthMetres_, M_);
@@ -55,6 +56,10 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
     pickupWeights_ = config.pickupWeights;
     pickupWeights_.resize(M_, 0.0);
     basePickupWeights_ = pickupWeights_;
+    pickupWeightsB_ = config.secondPickupWeights;
+    if (!pickupWeightsB_.empty())
+        pickupWeightsB_.resize(M_, 0.0);
+    basePickupWeightsB_ = pickupWeightsB_;
 }
 
 // phi_p(x_j) for every point and mode, and what a force at each point does to the pickup.
@@ -66,10 +71,14 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
             shapes_[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
     for (int j = 0; j < P_; ++j)
     {
-        double hp = 0.0;
+        double hp = 0.0, hpB = 0.0;
         for (int p = 0; p < M_; ++p)
+        {
             hp += pickupWeights_[p] * shapes_[size_t(j) * M_ + p];
+            hpB += pickupWeightsB_.empty() ? 0.0 : pickupWeightsB_[p] * shapes_[size_t(j) * M_ + p];
+        }
         pickupPhiW_[j] = forceScale_ * contacts_[j].weight * hp;
+        pickupPhiWB_[j] = forceScale_ * contacts_[j].weight * hpB;
     }
 }
 
@@ -94,6 +103,8 @@ void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
                 coupled_[p] = 1;
         }
         pickupPhiE_ = forceScale_ * kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_);
+        if (!pickupWeightsB_.empty())
+            pickupPhiEB_ = forceScale_ * kernels::dot(pickupWeightsB_.data(), excitationShape_.data(), M_);
     }
 }
 
@@ -151,7 +162,7 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
         throw std::invalid_argument("modal state has the wrong number of modes");
     state_.compact(coupled_, current, previous, excitationShape_, shapes_, P_, transform_ != nullptr,
                    !transform_ && P_ <= 1);
-    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_);
+    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
     restartFromModes();
 }
 
@@ -164,6 +175,7 @@ void ModalSolver::restartFromModes()
     projectActive(state_.q(), uC_.data());
     projectActive(state_.qPrev(), uCPrev_.data());
     pickup_ = kernels::dot(state_.h(), state_.q(), state_.activeCount());
+    pickupB_ = state_.h2() != nullptr ? kernels::dot(state_.h2(), state_.q(), state_.activeCount()) : 0.0;
     if (method_ == ContactMethod::quadratised)
         quadratised_.restart(contacts_, uC_.data(), uCPrev_.data());
 }
@@ -265,11 +277,12 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev)
     return sum;
 }
 
-double ModalSolver::pickupCompliance() const
+double ModalSolver::pickupCompliance(bool second) const
 {
+    const auto& h = second ? pickupWeightsB_ : pickupWeights_;
     double sum = 0.0;
-    for (int p = 0; p < M_; ++p)
-        sum += pickupWeights_[p] * pickupWeights_[p] / (mu_ * omega_[p] * omega_[p]);
+    for (size_t p = 0; p < h.size(); ++p)
+        sum += h[p] * h[p] / (mu_ * omega_[p] * omega_[p]);
     return sum;
 }
 
@@ -283,14 +296,24 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
         coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + releaseSigma_, dt_);
         pickupWeights_[p] = pickupScale * basePickupWeights_[p];
+        if (!pickupWeightsB_.empty())
+            pickupWeightsB_[p] = pickupScale * basePickupWeightsB_[p];
     }
-    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_);
+    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
     const int Ma = state_.activeCount();
     for (int j = 0; j < P_ && !transform_; ++j)
         pickupPhiW_[j] = forceScale_ * contacts_[j].weight * kernels::dot(state_.h(), state_.phi(j), Ma);
     if (!excitationShape_.empty())
         pickupPhiE_ = forceScale_ * kernels::dot(state_.h(), state_.phiE(), Ma);
     pickup_ = kernels::dot(state_.h(), state_.q(), Ma);
+    if (const double* h2 = state_.h2())
+    {
+        for (int j = 0; j < P_ && !transform_; ++j)
+            pickupPhiWB_[j] = forceScale_ * contacts_[j].weight * kernels::dot(h2, state_.phi(j), Ma);
+        if (!excitationShape_.empty())
+            pickupPhiEB_ = forceScale_ * kernels::dot(h2, state_.phiE(), Ma);
+        pickupB_ = kernels::dot(h2, state_.q(), Ma);
+    }
     if (compliance_.active())
     {
         compliance_.rescale(complianceScale, contacts_);
@@ -362,6 +385,7 @@ void ModalSolver::resetToRest()
     compliance_.reset();
     quadratised_.reset();
     pickup_ = pickupTilde_ = 0.0;
+    pickupB_ = pickupTildeB_ = 0.0;
 }
 
 void ModalSolver::takeMotionFrom(ModalSolver& other)
@@ -399,20 +423,27 @@ void ModalSolver::predictPairStep()
 {
     if (state_.layout() == ModalState::Layout::pairBoundary)
     {
+        kernels::PairReadout out;
         kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
-                          state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(), pairPickup_, pairU_,
-                          pairPickup2_, pairContact2_);
+                          state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(), out);
+        pairPickup_ = out.pickup1;
+        pairU_ = out.contact1;
+        pairPickup2_ = out.pickup2;
+        pairContact2_ = out.contact2;
+        pairPickupB_ = out.second1;
+        pairPickup2B_ = out.second2;
         return;
     }
     pairPickup_ = pairPickup2_ + state_.c1() * state_.sumAPhiH();
     pairU_ = pairContact2_ + state_.c1() * state_.sumAPhiSquared();
+    pairPickupB_ = pairPickup2B_ + state_.c1() * state_.sumAPhiH2();
 }
 
 // With the point's slope G: u_C^{n+1} = u~ + A f with f = -G, q^{n+1} = q~ + c phi with
 // c = -(dt^2/mu) w G (the layout's correction), and the pickup likewise.
 void ModalSolver::finishPairStep()
 {
-    double y = pairPickup_;
+    double y = pairPickup_, yB = pairPickupB_;
     double c = 0.0;
     if (P_ == 1)
     {
@@ -423,8 +454,10 @@ void ModalSolver::finishPairStep()
         lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
         c = -forceScale_ * contacts_[0].weight * G;
         y -= pickupPhiW_[0] * G;
+        yB -= pickupPhiWB_[0] * G;
     }
     pickup_ = y;
+    pickupB_ = yB;
     if (state_.layout() == ModalState::Layout::pairBoundary)
         state_.setPairMiddle(c);
     else
@@ -475,15 +508,17 @@ void ModalSolver::predictAtPoints(bool fused)
     double* next = state_.qPrev();
     const int Mpad = state_.paddedCount();
     if (fused)
-        pickupTilde_ = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.phi(0),
-                                               state_.stride(), P_, Mpad, uTilde_.data());
+        pickupTilde_ = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(),
+                                               state_.phi(0), state_.stride(), P_, Mpad, uTilde_.data(), pickupTildeB_);
     else
-        pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), Mpad);
+        pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
+                                        pickupTildeB_);
     if (externalForce_ != 0.0)
     {
         // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.
         kernels::axpy(forceScale_ * externalForce_, state_.phiE(), next, Mpad);
         pickupTilde_ += externalForce_ * pickupPhiE_;
+        pickupTildeB_ += externalForce_ * pickupPhiEB_;
     }
     if (transform_)
         transform_->sample(next, uTilde_.data());
@@ -515,6 +550,7 @@ void ModalSolver::applyContactForces()
             Af -= A(j, i) * slope_[i];
         uTilde_[j] += Af;
         pickupTilde_ -= pickupPhiW_[j] * slope_[j];
+        pickupTildeB_ -= pickupPhiWB_[j] * slope_[j];
     }
 }
 
@@ -532,6 +568,7 @@ void ModalSolver::endSingleStep()
     }
     state_.swapSingle();
     pickup_ = pickupTilde_;
+    pickupB_ = pickupTildeB_;
 }
 
 void ModalSolver::fullState(std::vector<double>& current, std::vector<double>& previous) const

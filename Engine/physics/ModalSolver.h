@@ -42,6 +42,7 @@ struct ModalSolverConfig
     ModalTable modes;
     std::vector<ContactPoint> contacts;
     std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
+    std::vector<double> secondPickupWeights;  // a second pickup's (the right channel's); empty for none
     // The reference grid's transform to the contact points; empty: projection.
     GridTransformFactory transform;
     // Where setExternalForce() pushes (the voice's pluck); its modes are kept active.
@@ -96,8 +97,9 @@ public:
     // quadratised energy for that method), without allocating; the residual compliance's spring
     // is left out (energy() has it).
     double obstacleEnergy() const;
-    // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H.
-    double pickupCompliance() const;
+    // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H (of the
+    // second pickup with `second`).
+    double pickupCompliance(bool second = false) const;
 
     // RT: new frequencies and damping for every mode (omega, sigma: M values each, rad/s and 1/s),
     // the residual compliance scaled by `complianceScale` from the configured one (1/r^2 when every
@@ -136,6 +138,8 @@ public:
     double timeStep() const { return dt_; }
 
     double pickup() const { return pickup_; }                       // RT: sum h_p q_p^n
+    double secondPickup() const { return pickupB_; }                // RT: the second pickup's, 0 without one
+    bool hasSecondPickup() const { return !basePickupWeightsB_.empty(); }
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
     double lastMaxPenetration() const { return lastPenetration_; }  // RT: max_j g_j - u_j^n (m)
 
@@ -188,8 +192,8 @@ private:
     std::vector<ExactModeCoefficients> coeffs_;          // all M modes
     std::vector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
     double releaseSigma_ = 0.0;
-    std::vector<double> basePickupWeights_;
-    std::vector<double> omega_, sigma_, pickupWeights_;
+    std::vector<double> basePickupWeights_, basePickupWeightsB_;
+    std::vector<double> omega_, sigma_, pickupWeights_, pickupWeightsB_;  // B: the second pickup's
     std::vector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
     std::vector<char> coupled_;            // mode p touches some contact point
     std::vector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
@@ -197,10 +201,13 @@ private:
     ModalState state_;
     double externalForce_ = 0.0;  // N
     double pickupPhiE_ = 0.0;     // (dt^2/mu) h . phi_e
+    double pickupPhiEB_ = 0.0;    // the second pickup's
     double pairContact2_ = 0.0, pairPickup2_ = 0.0;
     double pairU_ = 0.0, pairPickup_ = 0.0;  // the paired step's contact-free u~ and pickup
+    double pairPickupB_ = 0.0, pairPickup2B_ = 0.0;  // the second pickup's
 
     std::vector<double> pickupPhiW_;   // (dt^2/mu) w_j (h . phi_j)
+    std::vector<double> pickupPhiWB_;  // the second pickup's
     Eigen::MatrixXd stringCoupling_;   // A = (dt^2/mu) Phi Phi^T W: the string's response at the points
     Eigen::MatrixXd couplingScratch_;  // A + C W, rebuilt on the audio thread by a retune
     Eigen::MatrixXd pointCoupling_;    // (A + C W) W^{-1}: response at the points per newton
@@ -214,6 +221,7 @@ private:
     std::unique_ptr<GridTransform> transform_;
     double pickup_ = 0.0;
     double pickupTilde_ = 0.0;
+    double pickupB_ = 0.0, pickupTildeB_ = 0.0;  // the second pickup's
     int lastIterations_ = 0;
     double lastPenetration_ = 0.0;
 };

@@ -34,13 +34,13 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
     stride_ = (Mpad_ + 7) / 8 * 8;
     while ((stride_ * 8) % 4096 != 576)
         stride_ += 8;
-    const int arrays = 9 + contactCount_;
+    const int arrays = 10 + contactCount_;
     storage_.assign(static_cast<size_t>(stride_) * arrays + 8, 0.0);
     double* base = storage_.data();
     while (reinterpret_cast<std::uintptr_t>(base) % 64 != 0)
         ++base;
     double* next = base;
-    for (double** array : {&aNormal_, &eNormal_, &aReleased_, &eReleased_, &h_, &q_, &qPrev_, &settled_, &phiE_})
+    for (double** array : {&aNormal_, &eNormal_, &aReleased_, &eReleased_, &h_, &q_, &qPrev_, &settled_, &phiE_, &h2_})
     {
         *array = next;
         next += stride_;
@@ -66,8 +66,10 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
 
 void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
                             const std::vector<ExactModeCoefficients>& released,
-                            const std::vector<double>& pickupWeights)
+                            const std::vector<double>& pickupWeights,
+                            const std::vector<double>& secondPickupWeights)
 {
+    hasSecondPickup_ = !secondPickupWeights.empty();
     for (int i = 0; i < Ma_; ++i)
     {
         const int p = active_[i];
@@ -78,16 +80,18 @@ void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
         aReleased_[i] = released[p].a;
         eReleased_[i] = released[p].e;
         h_[i] = pickupWeights[p];
+        h2_[i] = hasSecondPickup_ ? secondPickupWeights[p] : 0.0;
     }
     for (int set = 0; set < 2; ++set)
     {
         const double* a = set == 0 ? aNormal_ : aReleased_;
-        sumAPhiSquared_[set] = sumAPhiH_[set] = 0.0;
+        sumAPhiSquared_[set] = sumAPhiH_[set] = sumAPhiH2_[set] = 0.0;
         if (pairable_ && contactCount_ == 1)
             for (int i = 0; i < Ma_; ++i)
             {
                 sumAPhiSquared_[set] += a[i] * phi_[i] * phi_[i];
                 sumAPhiH_[set] += a[i] * phi_[i] * h_[i];
+                sumAPhiH2_[set] += a[i] * phi_[i] * h2_[i];
             }
     }
 }
@@ -181,6 +185,8 @@ void ModalState::prefetchPass() const
         __builtin_prefetch(a_ + i, 0, 3);
         __builtin_prefetch(e_ + i, 0, 3);
         __builtin_prefetch(h_ + i, 0, 3);
+        if (hasSecondPickup_)
+            __builtin_prefetch(h2_ + i, 0, 3);
         if (phi_ != nullptr)
             __builtin_prefetch(phi_ + i, 0, 3);
         __builtin_prefetch(q_ + i, 1, 3);

@@ -46,10 +46,11 @@ public:
     void compact(const std::vector<char>& coupled, const std::vector<double>& current,
                  const std::vector<double>& previous, const std::vector<double>& excitationShape,
                  const std::vector<double>& contactShapes, int contactCount, bool exactSize, bool pairable);
-    // RT: the active modes' coefficients of both damping sets and pickup weights, from tables over
-    // every mode, and the pairing sums.
+    // RT: the active modes' coefficients of both damping sets and pickup weights (and a second
+    // pickup's, when not empty), from tables over every mode, and the pairing sums.
     void fillTables(const std::vector<ExactModeCoefficients>& normal,
-                    const std::vector<ExactModeCoefficients>& released, const std::vector<double>& pickupWeights);
+                    const std::vector<ExactModeCoefficients>& released, const std::vector<double>& pickupWeights,
+                    const std::vector<double>& secondPickupWeights);
 
     int modeCount() const { return M_; }
     int activeCount() const { return Ma_; }
@@ -83,11 +84,13 @@ public:
     // sum_i a_i phi_i^2 and sum_i a_i phi_i h_i over the active modes, for the set in use.
     double sumAPhiSquared() const { return sumAPhiSquared_[released_ ? 1 : 0]; }
     double sumAPhiH() const { return sumAPhiH_[released_ ? 1 : 0]; }
+    double sumAPhiH2() const { return sumAPhiH2_[released_ ? 1 : 0]; }  // the second pickup's
 
     // The stepping arrays (paddedCount() values each).
     const double* a() const { return a_; }
     const double* e() const { return e_; }
     const double* h() const { return h_; }
+    const double* h2() const { return hasSecondPickup_ ? h2_ : nullptr; }  // the second pickup's weights, or null
     const double* phiE() const { return phiE_; }
     const double* phi(int j) const { return phi_ + size_t(j) * stride_; }            // contact row j
     const double* singlePhi() const { return contactCount_ == 1 ? phi_ : nullptr; }  // the one contact row
@@ -129,6 +132,8 @@ private:
     double* aReleased_ = nullptr;
     double* eReleased_ = nullptr;
     double* h_ = nullptr;
+    double* h2_ = nullptr;
+    bool hasSecondPickup_ = false;
     double* phiE_ = nullptr;  // excitation shape over the active modes
     double* phi_ = nullptr;   // contact rows, stride_ apart (none on the DST path)
     double* q_ = nullptr;
@@ -136,7 +141,7 @@ private:
     double* settled_ = nullptr;
     Layout layout_ = Layout::single;
     double c1_ = 0.0, c2_ = 0.0;
-    double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0};  // per damping set
+    double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0}, sumAPhiH2_[2] = {0.0, 0.0};  // per damping set
     bool released_ = false;
 };
 

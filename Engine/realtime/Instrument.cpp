@@ -21,6 +21,13 @@ double clampFraction(double x)
 {
     return std::clamp(x, 0.005, 0.995);
 }
+
+// The right channel's pickup: kSecondPickupOffset further from the nearer end than the first.
+double secondPickupFraction(double pickup)
+{
+    const double x = clampFraction(pickup);
+    return std::clamp(x > 0.5 ? x - kSecondPickupOffset : x + kSecondPickupOffset, 0.02, 0.98);
+}
 }  // namespace
 
 double dampingCurveFrequency(int i)
@@ -104,6 +111,7 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     const double L = pack->string.lengthMetres;
     config.excitationPosition = clampFraction(structure.pluckPosition) * L;
     config.pickupPosition = clampFraction(structure.pickupPosition) * L;
+    config.secondPickupPosition = secondPickupFraction(structure.pickupPosition) * L;
     config.quantity = PickupQuantity::displacement;
     config.modes = quality.modes;
     config.oversampling = quality.oversampling;
@@ -154,7 +162,12 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     pack->mixLeft.assign(chunkSteps, 0.0);
     pack->mixRight.assign(chunkSteps, 0.0);
     pack->stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    pack->secondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     pack->outputScale = 120.0 / std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02);
+    // The second pickup at the first's level by the same law (it sits further from the end, where
+    // the string moves more).
+    pack->secondPickupGain = std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02)
+                             / std::max(std::sin(std::numbers::pi * secondPickupFraction(structure.pickupPosition)), 0.02);
     return pack;
 }
 
@@ -626,23 +639,25 @@ void Instrument::mixChunk(float* left, float* right, int count, double gainStart
     std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + long(internal), 0.0);
     std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + long(internal), 0.0);
     std::array<Voice*, kSlots> voices{};
-    std::array<double*, kSlots> blocks{};
+    std::array<double*, kSlots> blocks{}, seconds{};
     std::array<int, kSlots> sounding{};
     int n = 0;
+    const size_t chunkSteps = size_t(kChunk) * size_t(pack_->oversampling);
     for (int i = 0; i < kSlots; ++i)
         if (slots_[size_t(i)].sounding || slots_[size_t(i)].fade >= 0)
         {
             voices[size_t(n)] = pack_->voices[size_t(i)].get();
-            blocks[size_t(n)] = pack_->stringBlocks.data() + size_t(i) * size_t(kChunk) * size_t(pack_->oversampling);
+            blocks[size_t(n)] = pack_->stringBlocks.data() + size_t(i) * chunkSteps;
+            seconds[size_t(n)] = pack_->secondBlocks.data() + size_t(i) * chunkSteps;
             sounding[size_t(n++)] = i;
         }
     if (scheduling_ == StringScheduling::bank)
-        bank_.process(voices.data(), blocks.data(), n, count);
+        bank_.process(voices.data(), blocks.data(), n, count, seconds.data());
     else
         for (int k = 0; k < n; ++k)
-            voices[size_t(k)]->processInternal(blocks[size_t(k)], count);
+            voices[size_t(k)]->processInternal(blocks[size_t(k)], count, seconds[size_t(k)]);
     for (int k = 0; k < n; ++k)
-        mixString(sounding[size_t(k)], blocks[size_t(k)], count, gainStart);
+        mixString(sounding[size_t(k)], blocks[size_t(k)], seconds[size_t(k)], count, gainStart);
     const int os = pack_->oversampling;
     for (int m = 0; m < count; ++m)
     {
@@ -654,7 +669,7 @@ void Instrument::mixChunk(float* left, float* right, int count, double gainStart
 // One string's chunk at the internal rate (block), panned and added into the mix with the gain ramp
 // from gainStart (and a steal's fade), both stepped per host sample; a stolen string that has faded
 // out starts its pending note, and a string that has decayed to nothing stops sounding.
-void Instrument::mixString(int slot, const double* block, int count, double gainStart)
+void Instrument::mixString(int slot, const double* block, const double* second, int count, double gainStart)
 {
     auto& s = slots_[size_t(slot)];
     auto& voice = *pack_->voices[size_t(slot)];
@@ -665,6 +680,8 @@ void Instrument::mixString(int slot, const double* block, int count, double gain
     const double panLeft = level * std::sqrt(0.5 * (1.0 - pan)), panRight = level * std::sqrt(0.5 * (1.0 + pan));
     const double outputScale = pack_->outputScale;
     const int os = pack_->oversampling;
+    // The right channel: the first pickup, the second mixed in with the width.
+    const double secondShare = current_.stereoWidth * pack_->secondPickupGain, firstShare = 1.0 - current_.stereoWidth;
     for (int n = 0; n < count; ++n)
     {
         double g = gainStart + (gain_ - gainStart) * (n + 1) / count;
@@ -678,7 +695,7 @@ void Instrument::mixString(int slot, const double* block, int count, double gain
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
             pack_->mixLeft[size_t(k)] += toLeft * block[k];
-            pack_->mixRight[size_t(k)] += toRight * block[k];
+            pack_->mixRight[size_t(k)] += toRight * (firstShare * block[k] + secondShare * second[k]);
         }
     }
     if (s.fade == 0)

@@ -89,7 +89,9 @@ struct InstrumentControls
     std::array<double, kDampingCurvePoints> dampingCurve{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};  // multipliers
     double gainDb = 0.0;
     // How far the MIDI strings spread across the stereo field by pitch: 0 all in the centre; 1 from
-    // hard left at C3 (48) and below to hard right at C7 (96) and above, C5 (72) in the centre.
+    // hard left at C3 (48) and below to hard right at C7 (96) and above, C5 (72) in the centre. It
+    // also mixes the second pickup into the right channel: (1 - width) of the first pickup and
+    // width of the second (kSecondPickupOffset). 0 is mono (the drone keeps its pans).
     double stereoWidth = 0.6;
     double bendRangeSemitones = 2.0;
     double tuningA4Hz = 440.0;
@@ -127,6 +129,11 @@ enum class StringScheduling
     bank
 };
 
+// The right channel's pickup sits this fraction of the length further from the end than the
+// first pickup (at least 2 % of the length from either end): a second position weights the modes
+// differently, phi_p(x_R) against phi_p(x_L).
+inline constexpr double kSecondPickupOffset = 0.05;
+
 inline constexpr int kMidiVoices = 8;
 inline constexpr int kDroneStrings = 4;
 inline constexpr int kSlots = kMidiVoices + kDroneStrings;
@@ -147,12 +154,14 @@ struct VoicePack
     // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
     // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
     double outputScale = 120.0;
+    double secondPickupGain = 1.0;  // the second pickup's level matched to the first's (their sines' ratio)
     // The strings are mixed at the internal rate and decimated once per channel (the decimator is
     // linear): the two decimators and the chunk's internal-rate buffers (Instrument::kChunk host
     // samples each).
     std::vector<Decimator> decimators;  // left, right
     std::vector<double> mixLeft, mixRight;
-    std::vector<double> stringBlocks;  // kSlots chunks at the internal rate: each string's, before the mix
+    std::vector<double> stringBlocks;   // kSlots chunks at the internal rate: each string's, before the mix
+    std::vector<double> secondBlocks;   // the same from each string's second pickup (the right channel)
     int oversampling = 1;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
@@ -255,7 +264,7 @@ private:
     void smoothControls(double k20);
     void retuneSounding(int count, double rate);
     void mixChunk(float* left, float* right, int count, double gainStart);
-    void mixString(int slot, const double* block, int count, double gainStart);
+    void mixString(int slot, const double* block, const double* second, int count, double gainStart);
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
 

@@ -5,14 +5,16 @@
 namespace jawari
 {
 
-void StringBank::process(Voice* const* voices, double* const* out, int count, int samples)
+void StringBank::process(Voice* const* voices, double* const* out, int count, int samples, double* const* second)
 {
     count = std::min(count, kMaxStrings);
     for (int first = 0; first < count; first += groupSize_)
-        processGroup(voices + first, out + first, std::min(groupSize_, count - first), samples);
+        processGroup(voices + first, out + first, second != nullptr ? second + first : nullptr,
+                     std::min(groupSize_, count - first), samples);
 }
 
-void StringBank::processGroup(Voice* const* voices, double* const* out, int count, int samples)
+void StringBank::processGroup(Voice* const* voices, double* const* out, double* const* second, int count,
+                              int samples)
 {
     if (count == 0)
         return;
@@ -24,7 +26,11 @@ void StringBank::processGroup(Voice* const* voices, double* const* out, int coun
             if (batch.count > 0)
                 solveContactLanes(batch);
         for (int i = 0; i < count; ++i)
+        {
             out[i][k] = voices[i]->finishSample(solutionOf(i));
+            if (second != nullptr)
+                second[i][k] = voices[i]->secondSample();
+        }
     }
 }
 

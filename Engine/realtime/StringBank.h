@@ -35,14 +35,15 @@ public:
     }
 
     // RT: `samples` host samples of `count` (<= kMaxStrings) voices of one oversampling, at the
-    // internal rate and undecimated: voice i's oversampling() x samples values into out[i], each
-    // what voices[i]->processInternal() would write.
-    void process(Voice* const* voices, double* const* out, int count, int samples);
+    // internal rate and undecimated: voice i's oversampling() x samples values into out[i] (and its
+    // second pickup's into second[i], when `second` is given), each what voices[i]->processInternal()
+    // would write.
+    void process(Voice* const* voices, double* const* out, int count, int samples, double* const* second = nullptr);
 
 private:
     int groupSize_ = kMaxStrings;
     Solve solve_ = Solve::lanes;
-    void processGroup(Voice* const* voices, double* const* out, int count, int samples);
+    void processGroup(Voice* const* voices, double* const* out, double* const* second, int count, int samples);
     static constexpr int kBatches = (kMaxStrings + kContactLanes - 1) / kContactLanes;
     std::array<ContactLaneBatch, kBatches> batches_;
     std::array<int, kMaxStrings> lane_{};  // the string's lane (batch x kContactLanes + lane), or -1

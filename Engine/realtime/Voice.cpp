@@ -36,6 +36,12 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
                     c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
         }
     }
+    if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
+    {
+        c.secondPickupWeights.resize(size_t(M));
+        for (int p = 1; p <= M; ++p)
+            c.secondPickupWeights[size_t(p - 1)] = modeShape(s.lengthMetres, p, *config.secondPickupPosition);
+    }
     c.method = config.method;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
@@ -64,7 +70,7 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
     pluckScratch_.assign(unitPluck_.size(), 0.0);
     block_.assign(oversampling_, 0.0);
     lengthMetres_ = config.string.lengthMetres;
-    pickupCompliance_ = solver_.pickupCompliance();
+    pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));
     runawayLimit_ = 0.0;
     pulseSteps_ = std::max<long>(1, std::lround(config.pluckSeconds / dt_));
     pluckForce_ = config.pluckForceNewtons;
@@ -162,8 +168,8 @@ void Voice::beforeStep()
     if (first_)
     {
         // The stream starts at u^0, like the reference's (sample n is the string at t = n dt).
-        y_ = solver_.pickup();
-        yPrevious_ = y_;
+        pickup_.start(solver_.pickup());
+        secondPickup_.start(solver_.secondPickup());
         first_ = false;
     }
 }
@@ -175,12 +181,8 @@ double Voice::sampleAfterStep()
     iterationCount_ += solver_.lastIterations();
     if (solver_.contactCount() > 0)
         maxPenetration_ = std::max(maxPenetration_, solver_.lastMaxPenetration());
-    double sample = y_;
-    if (quantity_ == PickupQuantity::velocity)
-        sample = (yNext - yPrevious_) / (2.0 * dt_);
-    yPrevious_ = y_;
-    y_ = yNext;
-    return sample;
+    secondSample_ = secondPickup_.advance(solver_.secondPickup(), quantity_, dt_);
+    return pickup_.advance(yNext, quantity_, dt_);
 }
 
 void Voice::process(double* out, int numSamples)
@@ -193,16 +195,20 @@ void Voice::process(double* out, int numSamples)
     }
 }
 
-void Voice::processInternal(double* out, int numSamples)
+void Voice::processInternal(double* out, int numSamples, double* second)
 {
     const long total = long(numSamples) * oversampling_;
     for (long k = 0; k < total; ++k)
+    {
         out[k] = guarded(nextInternalSample());
+        if (second != nullptr)
+            second[k] = secondSample_;
+    }
 }
 
 double Voice::guarded(double sample)
 {
-    if (std::abs(sample) <= runawayLimit_)  // false for NaN too
+    if (std::abs(sample) <= runawayLimit_ && std::abs(secondSample_) <= runawayLimit_)  // false for NaN too
         return sample;
     // A method that lost stability (the penalty force, for one): no NaN and no blast reaches the
     // speakers; the string restarts from rest.
@@ -215,8 +221,9 @@ void Voice::takeMotionFrom(Voice& other)
 {
     solver_.takeMotionFrom(other.solver_);
     solver_.setReleased(other.solver_.released());
-    y_ = other.y_;
-    yPrevious_ = other.yPrevious_;
+    pickup_ = other.pickup_;
+    secondPickup_ = other.secondPickup_;
+    secondSample_ = other.secondSample_;
     first_ = other.first_;
     pulseStep_ = other.pulseStep_;
     pulsePeak_ = other.pulsePeak_;
@@ -236,7 +243,7 @@ void Voice::retune(double ratio, const double* sigma)
         omegaScratch_[p] = ratio * baseOmega_[p];
     const double pickupScale = quantity_ == PickupQuantity::force ? ratio * ratio : 1.0;
     solver_.retune(omegaScratch_.data(), sigma, 1.0 / (ratio * ratio), pickupScale);
-    pickupCompliance_ = solver_.pickupCompliance();
+    pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));
     // The same motion at a higher pitch holds more energy (the tension works): the ceiling follows.
     energyCeiling_ *= std::max(1.0, (ratio * ratio) / (previous * previous));
     if (pulseStep_ < 0 && energyCeiling_ > 0.0)
@@ -255,7 +262,8 @@ void Voice::silence()
     solver_.setReleased(false);
     decimator_.reset();
     std::fill(block_.begin(), block_.end(), 0.0);
-    y_ = yPrevious_ = 0.0;
+    pickup_ = secondPickup_ = PickupStream{};
+    secondSample_ = 0.0;
     first_ = true;
     pulseStep_ = -1;
     energyCeiling_ = 0.0;

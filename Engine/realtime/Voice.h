@@ -13,6 +13,7 @@
 #include "realtime/Decimator.h"
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace jawari
@@ -25,6 +26,9 @@ struct VoiceConfig
     double excitationPosition = 0.501;  // where the plucks act (m)
     double pickupPosition = 0.992;      // m
     PickupQuantity quantity = PickupQuantity::displacement;
+    // A second pickup (m), read beside the first: the instrument's right channel. Displacement or
+    // velocity only (the force is read at the termination). Empty: none.
+    std::optional<double> secondPickupPosition;
     int modes = 200;       // M
     int oversampling = 8;  // R / host rate
     double hostRateHz = 48000.0;
@@ -72,7 +76,8 @@ public:
     // RT: the same motion at the internal rate, undecimated: oversampling() samples per host sample,
     // numSamples host samples' worth, for a caller that mixes strings before one decimator per
     // channel (the decimator is linear). The same guard as process(), sample by sample.
-    void processInternal(double* out, int numSamples);
+    // With a second pickup, its samples go to `second` (when not null), guarded with the first's.
+    void processInternal(double* out, int numSamples, double* second = nullptr);
     void takeMotionFrom(Voice& other);  // RT: same string and modes, new obstacles/contact
     // RT: one sample of processInternal() in two halves around the contact solve, for the string
     // bank, which solves many strings' points together. beginSample() returns true when the step
@@ -80,6 +85,7 @@ public:
     // returns the guarded internal sample.
     bool beginSample(ScalarContactRequest& request);
     double finishSample(const ScalarContactSolution* solution);
+    double secondSample() const { return secondSample_; }  // RT: the second pickup's, of the last sample
 
     // RT: every mode's frequency scaled by `ratio` from the configured string (the note's pitch:
     // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
@@ -109,10 +115,25 @@ public:
     ModalSolver& solver() { return solver_; }
 
 private:
+    // The stream of one pickup: sample n is the string at t = n dt (displacement), or the centred
+    // difference around it (velocity).
+    struct PickupStream
+    {
+        double y = 0.0, previous = 0.0;
+        void start(double value) { y = previous = value; }
+        double advance(double next, PickupQuantity quantity, double dt)
+        {
+            const double sample = quantity == PickupQuantity::velocity ? (next - previous) / (2.0 * dt) : y;
+            previous = y;
+            y = next;
+            return sample;
+        }
+    };
     double nextInternalSample();
     void beforeStep();        // the pluck pulse's force and the stream's first sample
     double sampleAfterStep();  // the step's output sample and statistics
-    double guarded(double sample);  // the sample, or 0 after a restart when it is beyond the runaway limit
+    // The sample, or 0 after a restart when it (or the second pickup's) is beyond the runaway limit.
+    double guarded(double sample);
 
     ModalSolver solver_;
     Decimator decimator_;
@@ -122,7 +143,8 @@ private:
     double dt_ = 0.0;
     double lengthMetres_ = 1.0;
     std::vector<double> block_;  // one host sample's internal samples
-    double y_ = 0.0, yPrevious_ = 0.0;
+    PickupStream pickup_, secondPickup_;
+    double secondSample_ = 0.0;
     bool first_ = true;
     // Pluck pulse: the step within it, or -1 when none is running.
     long pulseStep_ = -1;
