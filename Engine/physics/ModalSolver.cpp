@@ -423,20 +423,16 @@ void ModalSolver::predictPairStep()
 {
     if (state_.layout() == ModalState::Layout::pairBoundary)
     {
-        kernels::PairReadout out;
         kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
-                          state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(), out);
-        pairPickup_ = out.pickup1;
-        pairU_ = out.contact1;
-        pairPickup2_ = out.pickup2;
-        pairContact2_ = out.contact2;
-        pairPickupB_ = out.second1;
-        pairPickup2B_ = out.second2;
+                          state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(), pass_);
+        pairPickup_ = pass_.pickup1;
+        pairU_ = pass_.contact1;
+        pairPickupB_ = pass_.second1;
         return;
     }
-    pairPickup_ = pairPickup2_ + state_.c1() * state_.sumAPhiH();
-    pairU_ = pairContact2_ + state_.c1() * state_.sumAPhiSquared();
-    pairPickupB_ = pairPickup2B_ + state_.c1() * state_.sumAPhiH2();
+    pairPickup_ = pass_.pickup2 + state_.c1() * state_.sumAPhiH();
+    pairU_ = pass_.contact2 + state_.c1() * state_.sumAPhiSquared();
+    pairPickupB_ = pass_.second2 + state_.c1() * state_.sumAPhiH2();
 }
 
 // With the point's slope G: u_C^{n+1} = u~ + A f with f = -G, q^{n+1} = q~ + c phi with

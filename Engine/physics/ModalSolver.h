@@ -20,6 +20,7 @@
 #include "physics/ContactSystem.h"
 #include "physics/ExactOscillator.h"
 #include "physics/GridTransform.h"
+#include "physics/ModalKernels.h"
 #include "physics/ModalState.h"
 #include "physics/Obstacle.h"
 #include "physics/PenaltyContact.h"
@@ -202,9 +203,9 @@ private:
     double externalForce_ = 0.0;  // N
     double pickupPhiE_ = 0.0;     // (dt^2/mu) h . phi_e
     double pickupPhiEB_ = 0.0;    // the second pickup's
-    double pairContact2_ = 0.0, pairPickup2_ = 0.0;
+    kernels::PairReadout pass_;  // the last paired pass's projections of both its steps
     double pairU_ = 0.0, pairPickup_ = 0.0;  // the paired step's contact-free u~ and pickup
-    double pairPickupB_ = 0.0, pairPickup2B_ = 0.0;  // the second pickup's
+    double pairPickupB_ = 0.0;  // the second pickup's
 
     std::vector<double> pickupPhiW_;   // (dt^2/mu) w_j (h . phi_j)
     std::vector<double> pickupPhiWB_;  // the second pickup's
