@@ -42,7 +42,6 @@ public:
 
     const ContactLaw& law() const { return law_; }
     int knotCount() const { return static_cast<int>(eta_.size()); }
-    double knot(int i) const { return eta_[std::size_t(i)]; }
     double force(double penetration) const;      // RT: the spline's force per metre (N/m)
     double potential(double penetration) const;  // RT: its potential (J/m), 0 for penetration <= 0
 

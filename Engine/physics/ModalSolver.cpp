@@ -300,25 +300,26 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
             pickupWeightsB_[p] = pickupScale * basePickupWeightsB_[p];
     }
     state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
-    const int Ma = state_.activeCount();
-    for (int j = 0; j < P_ && !transform_; ++j)
-        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * kernels::dot(state_.h(), state_.phi(j), Ma);
-    if (!excitationShape_.empty())
-        pickupPhiE_ = forceScale_ * kernels::dot(state_.h(), state_.phiE(), Ma);
-    pickup_ = kernels::dot(state_.h(), state_.q(), Ma);
+    pickup_ = projectPickup(state_.h(), pickupPhiW_, pickupPhiE_);
     if (const double* h2 = state_.h2())
-    {
-        for (int j = 0; j < P_ && !transform_; ++j)
-            pickupPhiWB_[j] = forceScale_ * contacts_[j].weight * kernels::dot(h2, state_.phi(j), Ma);
-        if (!excitationShape_.empty())
-            pickupPhiEB_ = forceScale_ * kernels::dot(h2, state_.phiE(), Ma);
-        pickupB_ = kernels::dot(h2, state_.q(), Ma);
-    }
+        pickupB_ = projectPickup(h2, pickupPhiWB_, pickupPhiEB_);
     if (compliance_.active())
     {
         compliance_.rescale(complianceScale, contacts_);
         updateCouplings();
     }
+}
+
+// For pickup weights h over the active modes: what a force at each point and at the excitation does
+// to the pickup ((dt^2/mu) w_j h . phi_j, (dt^2/mu) h . phi_e); returns the pickup h . q^n.
+double ModalSolver::projectPickup(const double* h, std::vector<double>& phiW, double& phiE) const
+{
+    const int Ma = state_.activeCount();
+    for (int j = 0; j < P_ && !transform_; ++j)
+        phiW[size_t(j)] = forceScale_ * contacts_[j].weight * kernels::dot(h, state_.phi(j), Ma);
+    if (!excitationShape_.empty())
+        phiE = forceScale_ * kernels::dot(h, state_.phiE(), Ma);
+    return kernels::dot(h, state_.q(), Ma);
 }
 
 void ModalSolver::updateCouplings()

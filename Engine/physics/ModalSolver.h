@@ -140,7 +140,6 @@ public:
 
     double pickup() const { return pickup_; }                       // RT: sum h_p q_p^n
     double secondPickup() const { return pickupB_; }                // RT: the second pickup's, 0 without one
-    bool hasSecondPickup() const { return !basePickupWeightsB_.empty(); }
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
     double lastMaxPenetration() const { return lastPenetration_; }  // RT: max_j g_j - u_j^n (m)
 
@@ -182,6 +181,7 @@ private:
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
     double contactPotentialEnergy(const double* u, const double* uPrev) const;
+    double projectPickup(const double* h, std::vector<double>& phiW, double& phiE) const;
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
 
     int M_ = 0;  // modes of the model

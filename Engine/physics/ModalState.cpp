@@ -173,11 +173,6 @@ void ModalState::restartSingle()
     c1_ = c2_ = 0.0;
 }
 
-}  // namespace jawari
-
-namespace jawari
-{
-
 void ModalState::prefetchPass() const
 {
     for (int i = 0; i < Mpad_; i += 8)  // a cache line of doubles at a time

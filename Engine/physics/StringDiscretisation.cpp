@@ -17,19 +17,28 @@ ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::
     c.timeStep = 1.0 / rateHz;
     c.modes = buildModalTable(string, M);
     c.contacts = contactPointsOnGrid(obstacles, L, M + 1);
-    c.pickupWeights.resize(M);
+    c.pickupWeights = pickupWeights(string, c.modes, pickupPosition, quantity);
+    return c;
+}
+
+std::vector<double> pickupWeights(const StringParameters& string, const ModalTable& modes, double position,
+                                  PickupQuantity quantity)
+{
+    const double L = string.lengthMetres;
+    const int M = modes.size();
+    std::vector<double> h(static_cast<size_t>(M), 0.0);
     for (int p = 1; p <= M; ++p)
     {
         if (quantity == PickupQuantity::force)
         {
             const double k = p * std::numbers::pi / L;
-            const double w = c.modes.omega[p - 1];
-            c.pickupWeights[p - 1] = std::sqrt(2.0 / L) * string.linearDensity * w * w / k;
+            const double w = modes.omega[size_t(p - 1)];
+            h[size_t(p - 1)] = std::sqrt(2.0 / L) * string.linearDensity * w * w / k;
         }
         else
-            c.pickupWeights[p - 1] = modeShape(L, p, pickupPosition);
+            h[size_t(p - 1)] = modeShape(L, p, position);
     }
-    return c;
+    return h;
 }
 
 }  // namespace jawari

@@ -20,4 +20,9 @@ namespace jawari
 ModalSolverConfig stringSolverConfig(const StringParameters& string, const std::vector<Obstacle>& obstacles, int modes,
                                      double rateHz, double pickupPosition, PickupQuantity quantity);
 
+// The pickup weights of the string's modes (as stringSolverConfig gives them) for a pickup at
+// `position` (m) reading `quantity`.
+std::vector<double> pickupWeights(const StringParameters& string, const ModalTable& modes, double position,
+                                  PickupQuantity quantity);
+
 }  // namespace jawari

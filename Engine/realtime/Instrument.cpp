@@ -163,11 +163,12 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     pack->mixRight.assign(chunkSteps, 0.0);
     pack->stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     pack->secondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
-    pack->outputScale = 120.0 / std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02);
+    auto pickupSine = [](double fraction) { return std::max(std::sin(std::numbers::pi * fraction), 0.02); };
+    const double sine = pickupSine(clampFraction(structure.pickupPosition));
+    pack->outputScale = 120.0 / sine;
     // The second pickup at the first's level by the same law (it sits further from the end, where
     // the string moves more).
-    pack->secondPickupGain = std::max(std::sin(std::numbers::pi * clampFraction(structure.pickupPosition)), 0.02)
-                             / std::max(std::sin(std::numbers::pi * secondPickupFraction(structure.pickupPosition)), 0.02);
+    pack->secondPickupGain = sine / pickupSine(secondPickupFraction(structure.pickupPosition));
     return pack;
 }
 

@@ -37,11 +37,7 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         }
     }
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
-    {
-        c.secondPickupWeights.resize(size_t(M));
-        for (int p = 1; p <= M; ++p)
-            c.secondPickupWeights[size_t(p - 1)] = modeShape(s.lengthMetres, p, *config.secondPickupPosition);
-    }
+        c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);
     c.method = config.method;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
