@@ -14,8 +14,9 @@ using namespace jawari;
 namespace
 {
 // Runs a unit tone of frequency f through the decimator. Returns the largest difference between
-// the output and the same tone delayed by the stated latency (the tone's own samples, so both gain
-// and delay are checked), and the output's peak (for tones that must not come through).
+// output k and the tone at t = (k - latency) / host rate (so gain and timing are both checked: a
+// fraction of a host sample off shows at 20 kHz as a deviation of order 1), and the output's peak
+// (for tones that must not come through).
 struct Measured
 {
     double worstDeviation = 0.0;
@@ -37,8 +38,9 @@ Measured run(Decimator& d, double hostRate, double f)
         const double y = d.process(block.data());
         if (k < hostSamples - 2048)
             continue;
-        // Output k stands for internal index k*factor + factor - 1, delayed by the latency.
-        const double t = double(k * factor + factor - 1) / rate - d.latencyHostSamples() / hostRate;
+        // Output k stands for the signal at t = (k - latency) / host rate, the internal sample
+        // (k - latency) * factor: the reference's output k - latency.
+        const double t = double(k - d.latencyHostSamples()) / hostRate;
         m.worstDeviation = std::max(m.worstDeviation, std::abs(y - std::sin(2.0 * std::numbers::pi * f * t)));
         m.peak = std::max(m.peak, std::abs(y));
     }

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -212,11 +213,17 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     const size_t outputCount = static_cast<size_t>(std::llround(duration * result.outputRateHz));
     result.output.reserve(outputCount + 16);
 
+    // The string was held in its initial shape before t = 0: the resampler sees the signal minus
+    // its first sample (so no step at t = 0, as if the held value had always been there), and that
+    // sample is added back to the output (the filter passes a constant unchanged).
     Resampler resampler(setup.rateHz, result.outputRateHz);
     std::vector<double> chunk;
     chunk.reserve(4096);
+    std::optional<double> held;
     auto sink = [&](double v) {
-        chunk.push_back(v);
+        if (!held)
+            held = v;
+        chunk.push_back(v - *held);
         if (chunk.size() == 4096)
         {
             resampler.push(chunk.data(), chunk.size(), result.output);
@@ -251,6 +258,8 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     run(solver, scene.pickup.quantity, steps, stats, options, sink, afterStep);
     resampler.push(chunk.data(), chunk.size(), result.output);
     resampler.finish(result.output);
+    for (double& v : result.output)
+        v += held.value_or(0.0);
     result.output.resize(outputCount, 0.0);
     for (double v : result.output)
         if (!std::isfinite(v))

@@ -29,10 +29,14 @@ Decimator::Decimator(int factor, double hostRateHz)
     const double stopbandHz = 0.5 * hostRateHz;
     const double attenuationDb = 100.0;
     const float transition = static_cast<float>((stopbandHz - passbandHz_) / internalRate);
-    unsigned int n = estimate_req_filter_len(transition, static_cast<float>(attenuationDb));
-    // Odd length with (n - 1)/2 a multiple of the factor: the delay is a whole number of host samples.
-    const unsigned int step = 2u * static_cast<unsigned int>(factor);
-    n = (n + step - 2) / step * step + 1;
+    const unsigned int estimate = estimate_req_filter_len(transition, static_cast<float>(attenuationDb));
+    // Output m is computed once internal sample mF + F - 1 has arrived, and the filter's centre
+    // lies (n - 1)/2 samples before it. With (n - 1)/2 = qF + F - 1 the centre is internal sample
+    // (m - q)F, the string at exactly t = (m - q)/host rate: a delay of q whole host samples.
+    const unsigned int F = static_cast<unsigned int>(factor);
+    // The smallest q with qF + F - 1 >= (estimate - 1)/2.
+    const unsigned int q = (estimate - 1) / 2 / F;
+    const unsigned int n = 2u * (q * F + F - 1) + 1;
     std::vector<float> h(n);
     const float cutoff = static_cast<float>(0.5 * (passbandHz_ + stopbandHz) / internalRate);
     if (liquid_firdes_kaiser(n, cutoff, static_cast<float>(attenuationDb), 0.0f, h.data()) != 0)
@@ -45,7 +49,7 @@ Decimator::Decimator(int factor, double hostRateHz)
         // Unit gain at DC; time-reversed, which for these symmetric taps is the same order. Pairs are
         // averaged so the symmetry holds exactly (the design is symmetric to float rounding).
         taps_[i] = 0.5 * (static_cast<double>(h[n - 1 - i]) + static_cast<double>(h[i])) / sum;
-    latency_ = static_cast<int>((n - 1) / 2 / static_cast<unsigned int>(factor));
+    latency_ = static_cast<int>(q);
     history_.assign(2 * n, 0.0);
     reversed_.assign(2 * n, 0.0);
 }
@@ -55,6 +59,12 @@ void Decimator::reset()
     std::fill(history_.begin(), history_.end(), 0.0);
     std::fill(reversed_.begin(), reversed_.end(), 0.0);
     position_ = reversedPosition_ = 0;
+}
+
+void Decimator::prime(double value)
+{
+    std::fill(history_.begin(), history_.end(), value);
+    std::fill(reversed_.begin(), reversed_.end(), value);
 }
 
 double Decimator::process(const double* internal)

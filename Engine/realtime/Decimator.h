@@ -3,8 +3,11 @@
 // A linear-phase low-pass FIR designed by liquid-dsp's Kaiser-window routine (liquid_firdes_kaiser,
 // length from estimate_req_filter_len): passband to min(20 kHz, 0.45 host rate), stopband from the
 // host Nyquist frequency, 100 dB design attenuation, so nothing aliases back at all.
-// Latency: (length - 1)/2 internal samples, made a whole number of host samples. The taps are made
-// exactly symmetric, and the output costs one multiply per pair of taps.
+// Timing: host output m stands for the internal sample m F (F the factor) delayed by a whole number
+// of host samples, the latency L: output m is the string at t = (m - L)/host rate, as the
+// reference's sample m - L is. The filter is centred on the first internal sample of each block of
+// F, so (length - 1)/2 = L F + F - 1. The taps are made exactly symmetric, and the output costs one
+// multiply per pair of taps.
 
 #include <vector>
 
@@ -26,6 +29,9 @@ public:
     // RT: takes `factor` internal samples, returns one host sample.
     double process(const double* internal);
     void reset();  // RT: clears the history
+    // RT: the history as if the input had held `value` for ever: a signal that starts at t = 0 from
+    // a held state (a string released from rest in a shape) starts without a step.
+    void prime(double value);
 
 private:
     int factor_ = 1;

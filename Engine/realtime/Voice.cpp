@@ -78,6 +78,7 @@ void Voice::setInitialShape(double position, double amplitudeMetres)
     solver_.setInitialDisplacement(pluckModalShape(lengthMetres_, solver_.modeCount(), position, amplitudeMetres));
     first_ = true;
     decimator_.reset();
+    primeDecimator_ = quantity_ != PickupQuantity::velocity;  // a held string's velocity is 0: the reset history
     raiseCeiling();
 }
 
@@ -96,6 +97,7 @@ void Voice::pluckFromShape(double amplitudeMetres)
     solver_.setExternalForce(0.0);
     solver_.startFrom(pluckScratch_.data());
     decimator_.reset();
+    primeDecimator_ = false;
     std::fill(block_.begin(), block_.end(), 0.0);
     first_ = true;
     pulseStep_ = -1;
@@ -187,6 +189,11 @@ void Voice::process(double* out, int numSamples)
     {
         for (int i = 0; i < oversampling_; ++i)
             block_[i] = nextInternalSample();
+        if (primeDecimator_)
+        {
+            decimator_.prime(block_[0]);
+            primeDecimator_ = false;
+        }
         out[m] = guarded(decimator_.process(block_.data()));
     }
 }
@@ -224,6 +231,7 @@ void Voice::takeMotionFrom(Voice& other)
     pulseStep_ = other.pulseStep_;
     pulsePeak_ = other.pulsePeak_;
     decimator_ = other.decimator_;  // same factor and length: a copy of equal-sized vectors, no allocation
+    primeDecimator_ = other.primeDecimator_;
     energyCeiling_ = other.energyCeiling_;
     if (pulseStep_ >= 0)
         runawayLimit_ = std::numeric_limits<double>::infinity();
@@ -257,6 +265,7 @@ void Voice::silence()
     solver_.resetToRest();
     solver_.setReleased(false);
     decimator_.reset();
+    primeDecimator_ = false;
     std::fill(block_.begin(), block_.end(), 0.0);
     pickup_ = secondPickup_ = PickupStream{};
     secondSample_ = 0.0;

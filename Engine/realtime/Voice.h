@@ -62,7 +62,8 @@ public:
     int latencySamples() const { return decimator_.latencyHostSamples(); }  // host samples
 
     // OFF: the string at rest in the triangular shape of the given amplitude at x (the scene's
-    // pluck), as the reference starts.
+    // pluck), as the reference starts: held there before t = 0, so the decimator's history is the
+    // held string's first sample (OfflineRender treats the reference's resampling the same way).
     void setInitialShape(double position, double amplitudeMetres);
 
     void pluckWithPulse(double velocity);  // RT: a force pulse at the excitation point; works while sounding
@@ -146,6 +147,7 @@ private:
     PickupStream pickup_, secondPickup_;
     double secondSample_ = 0.0;
     bool first_ = true;
+    bool primeDecimator_ = false;  // the next host sample's first internal sample fills the history
     // Pluck pulse: the step within it, or -1 when none is running.
     long pulseStep_ = -1;
     long pulseSteps_ = 0;
