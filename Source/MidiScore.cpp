@@ -178,8 +178,6 @@ MidiScore readMidiScore(const void* data, size_t size)
         throw MidiFileError("JUCE's MIDI file reader refused it");
     checkTracks(file);
     score.events = channelEvents(file);
-    if (score.events.getNumEvents() == 0)
-        throw MidiFileError("it holds no notes, controllers or other channel events");
     score.lastEventSeconds = score.events.getEndTime();
     return score;
 }

@@ -32,7 +32,9 @@ struct MidiScore
 };
 
 // The score in a file's bytes. Throws MidiFileError naming the problem (not a MIDI file, truncated,
-// type 2, a bad division, a track without its End of Track, no channel events, an event too late).
+// type 2, a bad division, a track without its End of Track, an event too late). A file without
+// channel events is a score without events: whether that is something to play (a drone) is the
+// caller's to decide.
 MidiScore readMidiScore(const void* data, size_t size);
 
 // The same for a file; a missing, unreadable or oversized file is a MidiFileError too.

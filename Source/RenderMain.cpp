@@ -5,12 +5,14 @@
 //                 [--duration S] [--output-rate HZ] [--raw] [--energy FILE.csv] [--quiet]
 //   jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
 //                 [--output-rate HZ] [--quiet]
+//   jawari-render --preset NAME -o OUT.wav --duration S [--output-rate HZ] [--quiet]   (the drone alone)
 //
 // Exit status: 0 done, 2 bad input or arguments (the message names the problem), 1 anything else.
 // Files are written to a temporary beside the target and moved into place only when complete.
 
 #include "MidiRender.h"
 #include "MidiScore.h"
+#include "Parameters.h"
 #include "PluginProcessor.h"
 #include "Presets.h"
 #include "offline/OfflineRender.h"
@@ -40,6 +42,7 @@ constexpr const char* usage =
 usage: jawari-render SCENE.json -o OUT.wav [options]
        jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
                      [--output-rate HZ] [--quiet]
+       jawari-render --preset NAME | --state FILE -o OUT.wav --duration S   (the drone alone)
 
   -o, --output FILE       the WAV file to write (required)
   --method NAME           reference (the paper's configuration), or the plugin's voice (truncated
@@ -67,6 +70,10 @@ MIDI (instead of a scene file):
                           "Bass fret buzz"); the plugin's defaults (Default) without it
   --state FILE            a state saved by the plugin as XML (a user preset, .jawaripreset)
   --output-rate HZ        the rate the plugin runs at: 22050 to 192000 Hz (default 48000)
+
+The drone alone: --preset or --state without --midi (or with a MIDI file that holds no channel
+events) plays a sound whose drone is on, for --duration seconds (required: a drone never falls
+silent). A sound without the drone has nothing to play then, and is refused.
 
 Options override the scene's `simulation` fields. A bad scene, MIDI file, preset, state or option
 exits with status 2 and a message naming the problem; nothing is written then.
@@ -205,13 +212,21 @@ struct Request
     bool raw = false, quiet = false;
 };
 
-// Options that belong to one kind of render: a scene file's, or --midi's.
+// A render through the plugin: a MIDI file, or a preset or state alone (its drone).
+bool playsPlugin(const Request& q, int positionals)
+{
+    return q.midiPath || ((q.preset || q.statePath) && positionals == 0);
+}
+
+// Options that belong to one kind of render: a scene file's, or the plugin's.
 void checkOptionsFit(const Request& q, int positionals)
 {
-    if (!q.midiPath)
+    if (!playsPlugin(q, positionals))
     {
         if (q.preset || q.statePath)
-            throw UsageError(std::string(q.preset ? "--preset" : "--state") + " applies to --midi renders only");
+            throw UsageError(std::string(q.preset ? "--preset" : "--state")
+                             + " applies to renders through the plugin (--midi, or the drone alone), not to "
+                               "scene files");
         return;
     }
     if (positionals > 0)
@@ -255,7 +270,7 @@ Request parseArguments(int argc, char* argv[])
     if (!positional.isEmpty())
         q.scenePath = positional[0];
     checkOptionsFit(q, positional.size());
-    if (!q.midiPath && positional.size() != 1)
+    if (!playsPlugin(q, positional.size()) && positional.size() != 1)
         throw UsageError(positional.isEmpty() ? "no scene file given (see --help)" : "give exactly one scene file");
     if (!q.output)
         throw UsageError("no output file: give -o OUT.wav");
@@ -414,8 +429,11 @@ jawari::midi::MidiRenderSettings midiSettings(const Request& q)
     return s;
 }
 
+// The score to play: the --midi file's, or none (the drone alone).
 jawari::midi::MidiScore scoreFor(const Request& q)
 {
+    if (!q.midiPath)
+        return {};
     const auto file = juce::File::getCurrentWorkingDirectory().getChildFile(*q.midiPath);
     try
     {
@@ -436,16 +454,35 @@ void printMidiSummary(const jawari::midi::MidiScore& score, const juce::String& 
                 wavFile.getFullPathName().toRawUTF8(), st.samples, seconds, s.rateHz,
                 20.0 * std::log10(std::max(st.peak, 1e-12)));
     const int events = score.events.getNumEvents();
-    std::printf("MIDI type %d, %d track%s, %d event%s, the last at %.3f s; %s; latency %d samples removed\n",
-                score.fileType, score.tracks, score.tracks == 1 ? "" : "s", events, events == 1 ? "" : "s",
-                score.lastEventSeconds, sound.toRawUTF8(), st.latencySamples);
+    if (events == 0)
+        std::printf("the drone alone, no MIDI events; %s; latency %d samples removed\n", sound.toRawUTF8(),
+                    st.latencySamples);
+    else
+        std::printf("MIDI type %d, %d track%s, %d event%s, the last at %.3f s; %s; latency %d samples removed\n",
+                    score.fileType, score.tracks, score.tracks == 1 ? "" : "s", events, events == 1 ? "" : "s",
+                    score.lastEventSeconds, sound.toRawUTF8(), st.latencySamples);
     if (!s.lengthSamples)
         std::printf("ended %.3f s after the last event: %s\n", seconds - score.lastEventSeconds,
                     st.tailCapped ? "the cap (the output never fell silent)" : "below -100 dBFS for 0.5 s");
     std::printf("rendered in %.2f s (%.3gx real time)\n", wallSeconds, seconds / std::max(wallSeconds, 1e-9));
 }
 
-// --midi: the score played through the plugin's AudioProcessor, written as it renders.
+// A score without events plays only the drone: the sound must have it on, and the length must be
+// given (a drone never falls silent).
+void checkDroneAlone(jawari::plugin::JawariAudioProcessor& processor, const Request& q, const juce::String& sound)
+{
+    const std::string nothing =
+        q.midiPath ? "the MIDI file holds no notes, controllers or other channel events" : "no --midi file is given";
+    if (processor.parameters().getRawParameterValue(jawari::plugin::ids::drone)->load() < 0.5f)
+        throw UsageError(nothing + ", and " + sound.toStdString()
+                         + " has the drone off: nothing would sound (choose a sound with the drone on, such as "
+                           "--preset \"Tanpura drone\")");
+    if (!q.duration)
+        throw UsageError(nothing + ": the drone alone plays for ever, so give its length with --duration S");
+}
+
+// --midi (or the drone alone): the score played through the plugin's AudioProcessor, written as it
+// renders.
 int runMidi(const Request& q)
 {
     auto settings = midiSettings(q);
@@ -454,6 +491,8 @@ int runMidi(const Request& q)
     const juce::ScopedJuceInitialiser_GUI juceRuntime;  // the processor's parameters run a timer
     jawari::plugin::JawariAudioProcessor processor;
     const juce::String sound = chooseSound(processor, q);
+    if (score.events.getNumEvents() == 0)
+        checkDroneAlone(processor, q, sound);
     const bool bar = !q.quiet && isatty(STDERR_FILENO);
     if (bar)
         settings.progress = [](double fraction) { showProgress(fraction); };
@@ -487,7 +526,7 @@ int run(int argc, char* argv[])
         return 0;
     }
     const Request q = parseArguments(argc, argv);
-    if (q.midiPath)
+    if (q.midiPath || q.preset || q.statePath)  // parseArguments refused them beside a scene file
         return runMidi(q);
     const jawari::Scene scene = sceneFor(q);
     const juce::File wavFile = outputFile(*q.output, "-o");

@@ -265,6 +265,20 @@ TEST_CASE("jawari-render --midi plays a state file the plugin saved, and factory
     CHECK(peakOf(readWav(drone)) > 0.05);
     REQUIRE(render("--midi " + cc + " --duration 2 --quiet -o " + drone.string()).status == 0);
     CHECK(peakOf(readWav(drone)) == 0.0);
+
+    // The drone alone: no --midi at all, or a file without channel events, play the same drone.
+    const auto alone = dir / "alone.wav", empty = dir / "empty.wav";
+    const auto tempoOnly = writeMidi(dir / "tempo.mid", {track({{0, juce::MidiMessage::tempoMetaEvent(500000)}})}, 0);
+    const auto o = render("--preset 'Tanpura drone' --duration 2 -o " + alone.string());
+    INFO(o.output);
+    REQUIRE(o.status == 0);
+    CHECK_THAT(o.output, Catch::Matchers::Contains("the drone alone, no MIDI events"));
+    REQUIRE(render("--midi " + tempoOnly + " --preset 'Tanpura drone' --duration 2 --quiet -o " + empty.string()).status == 0);
+    const auto a = readWav(alone), b = readWav(empty);
+    REQUIRE(a.left.size() == size_t(2 * 48000));
+    CHECK(peakOf(a) > 0.05);
+    CHECK(a.left == b.left);
+    CHECK(a.right == b.right);
 }
 
 TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and option mixes with status 2")
@@ -299,7 +313,11 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         {"--midi " + write(dir / "noise.mid", noise), "not a Standard MIDI File"},
         {"--midi " + write(dir / "cut.mid", bytes.substr(0, bytes.size() - 3)), "truncated: track 1 of 1 declares"},
         {"--midi " + write(dir / "type2.mid", typeTwo), "type 2 (independent sequences) is not supported"},
-        {"--midi " + tempoOnly, "no notes, controllers or other channel events"},
+        {"--midi " + tempoOnly, "the MIDI file holds no notes, controllers or other channel events, and the "
+                                "plugin's defaults has the drone off"},
+        {"--midi " + tempoOnly + " --preset 'Tanpura drone'", "give its length with --duration S"},
+        {"--preset 'Tanpura drone'", "no --midi file is given: the drone alone plays for ever"},
+        {"--preset Sitar --duration 1", "preset 'Sitar (parabolic bridge)' has the drone off"},
         {"--midi " + escaped, "track 1: an escape event (F7)"},
         {"--midi " + good + " --preset Banjo", "no factory preset 'Banjo' (the presets: 'Default (tanpura bridge"},
         {"--midi " + good + " --state " + (dir / "missing.xml").string(), "missing.xml: no such file"},
@@ -312,7 +330,7 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         {"--midi " + good + " --method realtime", "--method applies to scene files"},
         {"--midi " + good + " --output-rate 8000", "--output-rate: the plugin runs at 22050 to 192000 Hz"},
         {"--midi " + good + " --duration 0", "--duration"},
-        {jawari::test::resource("Scenes/paper-centre.json") + " --preset Default", "--preset applies to --midi"},
+        {jawari::test::resource("Scenes/paper-centre.json") + " --preset Default", "--preset applies to renders through the plugin"},
     };
     for (const auto& c : cases)
     {
