@@ -150,6 +150,7 @@ TEST_CASE("The reference's transform path renders a bridge bit for bit as stored
     bridge.curvature = 0.5;
     bridge.height = 0.2e-3;
     bridge.law = {1e10, 1.5};
+    bridge.spacing = scene.string.lengthMetres / 400;  // on the reference's grid of 399 modes
     scene.obstacles = {bridge};
     scene.simulation.modes = 399;
     scene.simulation.rateHz = 400000.0;

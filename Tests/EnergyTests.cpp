@@ -70,6 +70,7 @@ TEST_CASE("lossless contact with a distributed bridge (DST path) conserves energ
     bridge.curvature = 2.0;
     bridge.law = {1e13, 1.3};
     const int M = 400;
+    bridge.spacing = s.lengthMetres / (M + 1);  // sampled on the solver's own grid
     auto config = test::gridConfig(s, M, 1e6, {bridge}, ContactPath::transform);
     ModalSolver solver(config);
     REQUIRE(solver.usesTransform());

@@ -110,3 +110,56 @@ TEST_CASE("the accuracy measures relative L2 and log-spectral distance and the 2
     CHECK(relativeL2(filtered, x, x.size()) < 1e-9);
     CHECK(peakFrequency(x, rate, 300, 600) == Approx(440.0).epsilon(1e-5));
 }
+
+TEST_CASE("the band envelope and the centroid track measure levels and the buzz band, not phase")
+{
+    const double rate = 48000.0;
+    std::vector<double> x(48000), louder(48000), shifted(48000);
+    for (size_t n = 0; n < x.size(); ++n)
+    {
+        const double t = double(n) / rate;
+        for (int k = 1; k <= 30; ++k)
+        {
+            const double w = 2 * std::numbers::pi * 220.0 * k * t, a = 1.0 / k;
+            x[n] += a * std::sin(w);
+            shifted[n] += a * std::sin(w + 0.7 * k * k);  // the same partials, other phases
+        }
+        louder[n] = 2.0 * x[n];
+    }
+    CHECK(bandEnvelopeDistance(x, x, rate) == 0.0);
+    // Twice the amplitude: +6.02 dB in each band above the floor (bands below it stay floored).
+    const double gain = bandEnvelopeDistance(louder, x, rate);
+    // Other phases: relL2 near sqrt(2), the envelope within a fraction of a dB.
+    const double phase = bandEnvelopeDistance(shifted, x, rate);
+    INFO("6 dB gain: " << gain << " dB; other phases: " << phase << " dB, relL2 " << relativeL2(shifted, x, x.size()));
+    CHECK(gain > 4.0);
+    CHECK(gain <= 20.0 * std::log10(2.0) + 1e-9);
+    CHECK(relativeL2(shifted, x, x.size()) > 1.0);
+    CHECK(phase < 0.5);
+
+    // From the 10th partial (2.2 kHz) up, the centroid of the 1/k partials' powers.
+    const auto track = centroidTrack(x, rate, 2090.0, 20000.0);
+    REQUIRE(track.size() == 39);  // 50 ms frames, hop 25 ms, over 1 s
+    double expected = 0.0, weight = 0.0;
+    for (int k = 10; k <= 30; ++k)
+    {
+        expected += 220.0 * k / (k * k);
+        weight += 1.0 / (k * k);
+    }
+    expected /= weight;
+    INFO("centroid " << track[10] << " Hz, expected " << expected);
+    CHECK(track[10] == Approx(expected).epsilon(0.02));
+    CHECK(centroidTrackDistance(x, x, rate, 2090.0, 20000.0) == 0.0);
+    // The band alone (partials 10 to 30), and every one of them 10 % higher: the centroid 10 % up.
+    std::vector<double> band(48000), raised(48000);
+    for (size_t n = 0; n < band.size(); ++n)
+        for (int k = 10; k <= 30; ++k)
+        {
+            const double w = 2 * std::numbers::pi * 220.0 * k * double(n) / rate;
+            band[n] += std::sin(w) / k;
+            raised[n] += std::sin(1.1 * w) / k;
+        }
+    const double moved = centroidTrackDistance(raised, band, rate, 1000.0, 20000.0);
+    INFO("centroid track distance of a 10 % rise: " << moved);
+    CHECK(moved == Approx(0.1).margin(0.005));
+}

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
@@ -181,6 +182,120 @@ double spectralCentroid(const std::vector<double>& signal, double rateHz, size_t
         den += p[k];
     }
     return den > 0.0 ? num / den : 0.0;
+}
+
+namespace
+{
+// Hann-windowed frames of frameSeconds, hop half a frame, over the first `seconds`: each frame's
+// power spectrum handed to `use` with the bin spacing.
+// One plan per size, kept for the thread: two measures of the same signal must round alike.
+RealFft& framePlan(size_t fftSize)
+{
+    thread_local std::vector<std::unique_ptr<RealFft>> plans;
+    for (auto& plan : plans)
+        if (plan->size == fftSize)
+            return *plan;
+    plans.push_back(std::make_unique<RealFft>(fftSize));
+    return *plans.back();
+}
+
+template <typename Use>
+void forEachFrame(const std::vector<double>& signal, double rateHz, double seconds, double frameSeconds, Use&& use)
+{
+    const size_t frame = static_cast<size_t>(std::llround(frameSeconds * rateHz));
+    const size_t length = std::min(signal.size(), static_cast<size_t>(std::llround(seconds * rateHz)));
+    if (frame < 16 || length < frame)
+        throw std::invalid_argument("a frame-by-frame measure needs at least one full frame");
+    size_t fftSize = 1;
+    while (fftSize < frame)
+        fftSize *= 2;
+    RealFft& fft = framePlan(fftSize);
+    const double binHz = rateHz / double(fftSize);
+    for (size_t start = 0; start + frame <= length; start += frame / 2)
+        use(powerSpectrumWith(fft, signal.data() + start, frame), binHz);
+}
+}  // namespace
+
+BandEnvelope bandEnvelope(const std::vector<double>& signal, double rateHz, double seconds, double frameSeconds,
+                          double maxHz)
+{
+    BandEnvelope e;
+    const double edge = std::pow(2.0, 1.0 / 6.0);
+    for (int k = -13;; ++k)  // 1 kHz x 2^(-13/3) = 49.6 Hz
+    {
+        const double centre = 1000.0 * std::pow(2.0, k / 3.0);
+        if (centre * edge > std::min(maxHz, 0.5 * rateHz))
+            break;
+        e.centresHz.push_back(centre);
+    }
+    forEachFrame(signal, rateHz, seconds, frameSeconds, [&](const std::vector<double>& p, double binHz) {
+        std::vector<double> levels(e.centresHz.size(), 0.0);
+        for (size_t b = 0; b < levels.size(); ++b)
+        {
+            const double low = e.centresHz[b] / edge, high = e.centresHz[b] * edge;
+            double energy = 0.0;
+            for (size_t k = static_cast<size_t>(std::ceil(low / binHz)); k < p.size() && double(k) * binHz < high; ++k)
+                energy += p[k];
+            levels[b] = 10.0 * std::log10(std::max(energy, 1e-300));
+        }
+        e.levelsDb.push_back(std::move(levels));
+    });
+    return e;
+}
+
+double bandEnvelopeDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
+                            double seconds, double frameSeconds, double floorDb)
+{
+    const auto a = bandEnvelope(y, rateHz, seconds, frameSeconds), b = bandEnvelope(ref, rateHz, seconds, frameSeconds);
+    double loudest = -1e300;
+    for (const auto& frame : b.levelsDb)
+        for (double v : frame)
+            loudest = std::max(loudest, v);
+    const double floor = loudest - floorDb;
+    const size_t frames = std::min(a.levelsDb.size(), b.levelsDb.size());
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t f = 0; f < frames; ++f)
+        for (size_t k = 0; k < b.centresHz.size(); ++k)
+        {
+            const double d = std::max(a.levelsDb[f][k], floor) - std::max(b.levelsDb[f][k], floor);
+            sum += d * d;
+            ++count;
+        }
+    return count > 0 ? std::sqrt(sum / double(count)) : 0.0;
+}
+
+std::vector<double> centroidTrack(const std::vector<double>& signal, double rateHz, double lowHz, double highHz,
+                                  double seconds, double frameSeconds)
+{
+    std::vector<double> track;
+    forEachFrame(signal, rateHz, seconds, frameSeconds, [&](const std::vector<double>& p, double binHz) {
+        double num = 0.0, den = 0.0;
+        for (size_t k = static_cast<size_t>(std::ceil(lowHz / binHz)); k < p.size() && double(k) * binHz <= highHz; ++k)
+        {
+            num += double(k) * binHz * p[k];
+            den += p[k];
+        }
+        track.push_back(den > 0.0 ? num / den : 0.0);
+    });
+    return track;
+}
+
+double centroidTrackDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
+                             double lowHz, double highHz, double seconds, double frameSeconds)
+{
+    const auto a = centroidTrack(y, rateHz, lowHz, highHz, seconds, frameSeconds);
+    const auto b = centroidTrack(ref, rateHz, lowHz, highHz, seconds, frameSeconds);
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t f = 0; f < std::min(a.size(), b.size()); ++f)
+        if (b[f] > 0.0)
+        {
+            const double d = a[f] / b[f] - 1.0;
+            sum += d * d;
+            ++count;
+        }
+    return count > 0 ? std::sqrt(sum / double(count)) : 0.0;
 }
 
 }  // namespace jawari

@@ -28,6 +28,32 @@ double peakFrequency(const std::vector<double>& signal, double rateHz, double lo
 double spectralCentroid(const std::vector<double>& signal, double rateHz, size_t begin, size_t count, double lowHz,
                         double highHz);
 
+// What a listener hears, without punishing a rattle that went the other way (docs/design.md
+// section 4): the time-varying spectral envelope, energy per third-octave band (centres
+// 1 kHz x 2^(k/3) from 50 Hz up to the last band below maxHz) per frame of frameSeconds
+// (Hann window, hop half a frame), in dB. levelsDb[frame][band].
+struct BandEnvelope
+{
+    std::vector<double> centresHz;
+    std::vector<std::vector<double>> levelsDb;
+};
+BandEnvelope bandEnvelope(const std::vector<double>& signal, double rateHz, double seconds = 1.0,
+                          double frameSeconds = 0.05, double maxHz = 20000.0);
+
+// RMS over bands and frames of the envelopes' level difference in dB, both floored floorDb below
+// the reference's loudest band in any frame, over the first `seconds`.
+double bandEnvelopeDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
+                            double seconds = 1.0, double frameSeconds = 0.05, double floorDb = 60.0);
+
+// The power-weighted mean frequency of [lowHz, highHz] per frame (Hann, hop half a frame) over the
+// first `seconds`: the buzz band's centroid as it moves (lowHz at the 10th partial for a jawari).
+std::vector<double> centroidTrack(const std::vector<double>& signal, double rateHz, double lowHz, double highHz,
+                                  double seconds = 1.0, double frameSeconds = 0.05);
+
+// RMS over frames of the relative difference of two centroid tracks, c_y / c_ref - 1.
+double centroidTrackDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
+                             double lowHz, double highHz, double seconds = 1.0, double frameSeconds = 0.05);
+
 // |X(f)|^2 of a Hann-windowed segment zero-padded to fftSize (fftSize/2+1 bins).
 std::vector<double> powerSpectrum(const double* segment, size_t count, size_t fftSize);
 

@@ -273,6 +273,13 @@ Obstacle readObstacle(const json& j, const std::string& path, double L)
                 throw SceneError(here, "must be greater than the previous x (x must increase strictly)");
         }
     }
+    if (ob.isDistributed() && r.has("spacing"))
+    {
+        ob.spacing = r.positive("spacing", 0.0);
+        if (!(ob.spacing <= 0.5 * L && ob.spacing >= L * 1e-6))
+            throw SceneError(r.at("spacing"), "must be between L/1e6 and L/2 (" + show(L * 1e-6) + " to "
+                                                  + show(0.5 * L) + " m), got " + show(ob.spacing));
+    }
     r.rejectUnknown();
     return ob;
 }

@@ -54,28 +54,42 @@ double Obstacle::heightAt(double x) const
     return height;
 }
 
+int contactGridIntervals(const Obstacle& obstacle, double lengthMetres)
+{
+    if (!(obstacle.spacing > 0.0))
+        return kContactGridIntervals;
+    return static_cast<int>(std::clamp(std::round(lengthMetres / obstacle.spacing), 2.0, 1e7));
+}
+
 std::vector<ContactPoint> contactPointsOnGrid(const std::vector<Obstacle>& obstacles, double lengthMetres,
                                               int gridIntervals)
 {
     const double dx = lengthMetres / gridIntervals;
+    // The node of the solver's grid at x, or -1.
+    auto solverNode = [&](double x) {
+        const double node = std::round(x / dx);
+        return std::abs(x / dx - node) < 1e-9 && node > 0 && node < gridIntervals ? static_cast<int>(node) : -1;
+    };
     std::vector<ContactPoint> points;
     for (const auto& ob : obstacles)
     {
         if (!ob.isDistributed())
         {
-            ContactPoint c{ob.position, ob.width, ob.height, ob.law, -1};
-            const double node = std::round(ob.position / dx);
-            if (std::abs(ob.position / dx - node) < 1e-9 && node > 0 && node < gridIntervals)
-                c.gridNode = static_cast<int>(node);
-            points.push_back(c);
+            points.push_back({ob.position, ob.width, ob.height, ob.law, solverNode(ob.position)});
             continue;
         }
-        const int first = std::max(1, static_cast<int>(std::ceil(ob.supportBegin() / dx - 1e-9)));
-        const int last = std::min(gridIntervals - 1, static_cast<int>(std::floor(ob.supportEnd() / dx + 1e-9)));
+        const int intervals = contactGridIntervals(ob, lengthMetres);
+        const double spacing = lengthMetres / intervals;
+        const int first = std::max(1, static_cast<int>(std::ceil(ob.supportBegin() / spacing - 1e-9)));
+        const int last = std::min(intervals - 1, static_cast<int>(std::floor(ob.supportEnd() / spacing + 1e-9)));
         for (int i = first; i <= last; ++i)
         {
-            const double x = i * dx;
-            points.push_back({x, dx, ob.heightAt(x), ob.law, i});
+            // On the solver's grid when the two grids share the node: x from the solver's index then,
+            // so the transform path sees exactly its node.
+            const double x = i * spacing;
+            const int node = solverNode(x);
+            const double at = node >= 0 ? node * dx : x;
+            points.push_back({at, spacing, ob.heightAt(at), ob.law, node});
         }
     }
     return points;

