@@ -82,6 +82,19 @@ int factoryPresetIndex(const juce::String& name)
     return -1;
 }
 
+int factoryPresetByShortName(const juce::String& wanted)
+{
+    const auto& presets = factoryPresets();
+    for (size_t i = 0; i < presets.size(); ++i)
+    {
+        const juce::String name(presets[i].name);
+        if (name.equalsIgnoreCase(wanted.trim())
+            || name.upToFirstOccurrenceOf(" (", false, false).equalsIgnoreCase(wanted.trim()))
+            return static_cast<int>(i);
+    }
+    return -1;
+}
+
 juce::File userPresetFolder()
 {
     return juce::File::getSpecialLocation(juce::File::userApplicationDataDirectory)

@@ -18,6 +18,9 @@ struct FactoryPreset
 
 const std::vector<FactoryPreset>& factoryPresets();
 int factoryPresetIndex(const juce::String& name);  // -1 when there is none of that name
+// A preset named by a user: its full name or the part before its parenthesis, in any case ("sitar"
+// for "Sitar (parabolic bridge)"). -1 when none matches.
+int factoryPresetByShortName(const juce::String& wanted);
 
 // Sets every parameter to the preset's value, or its default where the preset says nothing. CT.
 void applyFactoryPreset(juce::AudioProcessorValueTreeState& state, const FactoryPreset& preset);

@@ -210,6 +210,7 @@ struct Request
     std::optional<juce::String> output, method, modes, rate, duration, outputRate, energyPath;
     std::optional<juce::String> midiPath, preset, statePath;
     bool raw = false, quiet = false;
+    bool throughPlugin = false;  // --midi, or the drone alone: no scene file
 };
 
 // A render through the plugin: a MIDI file, or a preset or state alone (its drone).
@@ -270,7 +271,8 @@ Request parseArguments(int argc, char* argv[])
     if (!positional.isEmpty())
         q.scenePath = positional[0];
     checkOptionsFit(q, positional.size());
-    if (!playsPlugin(q, positional.size()) && positional.size() != 1)
+    q.throughPlugin = playsPlugin(q, positional.size());
+    if (!q.throughPlugin && positional.size() != 1)
         throw UsageError(positional.isEmpty() ? "no scene file given (see --help)" : "give exactly one scene file");
     if (!q.output)
         throw UsageError("no output file: give -o OUT.wav");
@@ -374,16 +376,11 @@ void printSummary(const jawari::Scene& scene, const jawari::RenderResult& result
 // --preset: a factory preset by its name or the part before its parenthesis, in any case.
 int factoryPresetNamed(const juce::String& wanted)
 {
-    const auto& presets = jawari::plugin::factoryPresets();
+    if (const int index = jawari::plugin::factoryPresetByShortName(wanted); index >= 0)
+        return index;
     juce::StringArray names;
-    for (size_t i = 0; i < presets.size(); ++i)
-    {
-        const juce::String name(presets[i].name);
-        if (name.equalsIgnoreCase(wanted.trim())
-            || name.upToFirstOccurrenceOf(" (", false, false).equalsIgnoreCase(wanted.trim()))
-            return static_cast<int>(i);
-        names.add("'" + name + "'");
-    }
+    for (const auto& preset : jawari::plugin::factoryPresets())
+        names.add("'" + juce::String(preset.name) + "'");
     throw UsageError("--preset: no factory preset '" + wanted.toStdString()
                      + "' (the presets: " + names.joinIntoString(", ").toStdString() + ")");
 }
@@ -526,7 +523,7 @@ int run(int argc, char* argv[])
         return 0;
     }
     const Request q = parseArguments(argc, argv);
-    if (q.midiPath || q.preset || q.statePath)  // parseArguments refused them beside a scene file
+    if (q.throughPlugin)
         return runMidi(q);
     const jawari::Scene scene = sceneFor(q);
     const juce::File wavFile = outputFile(*q.output, "-o");

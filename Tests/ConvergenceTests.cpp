@@ -15,18 +15,13 @@ using namespace jawari;
 
 namespace
 {
-struct Measures
+// Every measure of y against ref over the first `seconds` (relL2 over 100 ms), both low-passed at
+// 20 kHz, the buzz band from the scene string's 10th partial.
+AccuracyFigures measure(const RenderResult& y, const RenderResult& ref, const Scene& scene, double seconds)
 {
-    double relL2 = 0.0, lsd = 0.0, envelope = 0.0, centroid = 0.0;
-};
-
-// Every measure of y against ref over the first `seconds` (relL2 over 100 ms), both low-passed at 20 kHz.
-Measures measure(const RenderResult& y, const RenderResult& ref, const Scene& scene, double seconds)
-{
-    const auto a = lowpass(y.output, 48000, 20000), b = lowpass(ref.output, 48000, 20000);
     const double buzzFromHz = 10.0 * buildModalTable(scene.string, 1).frequencyHz.front();
-    return {relativeL2(a, b, 4800), logSpectralDistance(a, b, 48000, seconds), bandEnvelopeDistance(a, b, 48000, seconds),
-            centroidTrackDistance(a, b, 48000, buzzFromHz, 20000.0, seconds)};
+    return accuracyFigures(lowpass(y.output, 48000, 20000), lowpass(ref.output, 48000, 20000), 48000, buzzFromHz,
+                           seconds);
 }
 }  // namespace
 

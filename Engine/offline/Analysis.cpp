@@ -96,6 +96,21 @@ std::vector<double> powerSpectrumWith(RealFft& fft, const double* segment, size_
         p[k] = fft.freq[k][0] * fft.freq[k][0] + fft.freq[k][1] * fft.freq[k][1];
     return p;
 }
+
+// The power-weighted mean frequency of the bins of p within [lowHz, highHz] (0 when they hold none).
+double bandCentroid(const std::vector<double>& p, double binHz, double lowHz, double highHz)
+{
+    double num = 0.0, den = 0.0;
+    for (size_t k = 0; k < p.size(); ++k)
+    {
+        const double f = double(k) * binHz;
+        if (f < lowHz || f > highHz)
+            continue;
+        num += f * p[k];
+        den += p[k];
+    }
+    return den > 0.0 ? num / den : 0.0;
+}
 }  // namespace
 
 std::vector<double> powerSpectrum(const double* segment, size_t count, size_t fftSize)
@@ -170,24 +185,11 @@ double spectralCentroid(const std::vector<double>& signal, double rateHz, size_t
     size_t fftSize = 1;
     while (fftSize < count)
         fftSize *= 2;
-    const auto p = powerSpectrum(signal.data() + begin, count, fftSize);
-    const double binHz = rateHz / double(fftSize);
-    double num = 0.0, den = 0.0;
-    for (size_t k = 0; k < p.size(); ++k)
-    {
-        const double f = double(k) * binHz;
-        if (f < lowHz || f > highHz)
-            continue;
-        num += f * p[k];
-        den += p[k];
-    }
-    return den > 0.0 ? num / den : 0.0;
+    return bandCentroid(powerSpectrum(signal.data() + begin, count, fftSize), rateHz / double(fftSize), lowHz, highHz);
 }
 
 namespace
 {
-// Hann-windowed frames of frameSeconds, hop half a frame, over the first `seconds`: each frame's
-// power spectrum handed to `use` with the bin spacing.
 // One plan per size, kept for the thread: two measures of the same signal must round alike.
 RealFft& framePlan(size_t fftSize)
 {
@@ -199,6 +201,8 @@ RealFft& framePlan(size_t fftSize)
     return *plans.back();
 }
 
+// Hann-windowed frames of frameSeconds, hop half a frame, over the first `seconds`: each frame's
+// power spectrum handed to `use` with the bin spacing.
 template <typename Use>
 void forEachFrame(const std::vector<double>& signal, double rateHz, double seconds, double frameSeconds, Use&& use)
 {
@@ -270,13 +274,7 @@ std::vector<double> centroidTrack(const std::vector<double>& signal, double rate
 {
     std::vector<double> track;
     forEachFrame(signal, rateHz, seconds, frameSeconds, [&](const std::vector<double>& p, double binHz) {
-        double num = 0.0, den = 0.0;
-        for (size_t k = static_cast<size_t>(std::ceil(lowHz / binHz)); k < p.size() && double(k) * binHz <= highHz; ++k)
-        {
-            num += double(k) * binHz * p[k];
-            den += p[k];
-        }
-        track.push_back(den > 0.0 ? num / den : 0.0);
+        track.push_back(bandCentroid(p, binHz, lowHz, highHz));
     });
     return track;
 }
@@ -296,6 +294,14 @@ double centroidTrackDistance(const std::vector<double>& y, const std::vector<dou
             ++count;
         }
     return count > 0 ? std::sqrt(sum / double(count)) : 0.0;
+}
+
+AccuracyFigures accuracyFigures(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
+                                double buzzFromHz, double seconds)
+{
+    return {relativeL2(y, ref, static_cast<size_t>(std::llround(0.1 * rateHz))),
+            logSpectralDistance(y, ref, rateHz, seconds), bandEnvelopeDistance(y, ref, rateHz, seconds),
+            centroidTrackDistance(y, ref, rateHz, buzzFromHz, 20000.0, seconds)};
 }
 
 }  // namespace jawari

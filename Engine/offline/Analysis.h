@@ -54,6 +54,16 @@ std::vector<double> centroidTrack(const std::vector<double>& signal, double rate
 double centroidTrackDistance(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
                              double lowHz, double highHz, double seconds = 1.0, double frameSeconds = 0.05);
 
+// Every accuracy measure of y against ref (docs/design.md section 4): relL2 over the first 100 ms,
+// LSD, band envelope and the centroid track of the buzz band from buzzFromHz to 20 kHz over the
+// first `seconds`. Both signals already low-passed at 20 kHz.
+struct AccuracyFigures
+{
+    double relL2 = 0.0, lsd = 0.0, envelope = 0.0, centroid = 0.0;
+};
+AccuracyFigures accuracyFigures(const std::vector<double>& y, const std::vector<double>& ref, double rateHz,
+                                double buzzFromHz, double seconds = 1.0);
+
 // |X(f)|^2 of a Hann-windowed segment zero-padded to fftSize (fftSize/2+1 bins).
 std::vector<double> powerSpectrum(const double* segment, size_t count, size_t fftSize);
 

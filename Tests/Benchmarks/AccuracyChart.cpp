@@ -85,10 +85,9 @@ int main(int argc, char** argv)
         const double buzzFromHz = 10.0 * buildModalTable(base.string, 1).frequencyHz.front();
         // relL2, LSD, envelope and centroid distances of y from the reference.
         auto measures = [&](const std::vector<double>& y) {
+            const auto m = accuracyFigures(y, ref, 48000, buzzFromHz);
             char text[128];
-            std::snprintf(text, sizeof text, "%.4g,%.4g,%.4g,%.4g", relativeL2(y, ref, 4800),
-                          logSpectralDistance(y, ref, 48000), bandEnvelopeDistance(y, ref, 48000),
-                          centroidTrackDistance(y, ref, 48000, buzzFromHz, 20000.0));
+            std::snprintf(text, sizeof text, "%.4g,%.4g,%.4g,%.4g", m.relL2, m.lsd, m.envelope, m.centroid);
             return std::string(text);
         };
         std::fprintf(out, "%s,reference,%d,%.0f,%d,0,0,0,0,%.4g,%d\n", name, reference.stats.modes,

@@ -6,8 +6,8 @@
 //   jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] [--block 512]
 //               [--polyphony N]   (N held MIDI notes on top of the drone; default 0)
 //               [--drone 0|1]     (default 1; 0 with --polyphony 8 measures eight MIDI strings)
-//               [--preset NAME]   (a factory preset, by its name or the part before the parenthesis;
-//                                  default "Tanpura drone")
+//               [--preset NAME]   (a factory preset, by its name or the part before the parenthesis,
+//                                  in any case; default "Tanpura drone")
 
 #include "offline/CpuClock.h"
 #include "PluginProcessor.h"
@@ -80,13 +80,7 @@ int main(int argc, char* argv[])
         return 2;
     }
     jawari::plugin::JawariAudioProcessor p;
-    int presetIndex = -1;
-    for (size_t i = 0; i < jawari::plugin::factoryPresets().size(); ++i)
-    {
-        const std::string name = jawari::plugin::factoryPresets()[i].name;
-        if (name == preset || name.substr(0, name.find(" (")) == preset)
-            presetIndex = static_cast<int>(i);
-    }
+    const int presetIndex = jawari::plugin::factoryPresetByShortName(preset);
     if (presetIndex < 0)
     {
         std::fprintf(stderr, "jawari-soak: --preset: no factory preset '%s'\n", preset.c_str());
