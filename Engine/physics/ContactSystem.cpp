@@ -25,16 +25,16 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
                 diagonal_ = false;
     if (diagonal_)
         A_ = Eigen::MatrixXd(A_.diagonal().asDiagonal());
-    G_.setZero(P);
-    dG_.setZero(P);
-    phi_.setZero(P);
-    trialPhi_.setZero(P);
-    step_.setZero(P);
-    AG_.setZero(P);
-    trial_.setZero(P);
-    r_.setZero(P);
-    J_.setZero(P, P);
-    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(P);
+    for (auto* v : {&G_, &r_, &rT_, &bT_, &GT_, &dGT_, &phiT_, &trialT_, &trialPhiT_, &stepT_, &AGT_})
+        v->setZero(P);
+    AT_.setZero(P, P);
+    JT_.setZero(P, P);
+    active_.clear();
+    active_.reserve(points_.size());
+    allPoints_.resize(points_.size());
+    for (size_t j = 0; j < points_.size(); ++j)
+        allPoints_[j] = static_cast<int>(j);
+    inActive_.assign(points_.size(), 0);
     previousR_.assign(points_.size(), 0.0);
     olderR_.assign(points_.size(), 0.0);
     previousContact_.assign(points_.size(), 0);
@@ -69,55 +69,29 @@ void ContactSystem::reset()
     std::fill(anchors_.begin(), anchors_.end(), KnownPower{});
 }
 
-double ContactSystem::residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi)
-{
-    const Eigen::Index P = r.size();
-    for (Eigen::Index j = 0; j < P; ++j)
-    {
-        const ChordSlope c =
-            chordSlope(points_[j].law, series_[size_t(j)], s[j], sAlpha_[size_t(j)], r[j], &anchors_[size_t(j)]);
-        G_[j] = c.value;
-        dG_[j] = c.derivative;
-    }
-    phi.noalias() = A_ * G_;
-    phi += r;
-    for (Eigen::Index j = 0; j < P; ++j)
-        phi[j] -= b[j];
-    return phi.lpNorm<Eigen::Infinity>();
-}
-
-void ContactSystem::gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r)
-{
-    const Eigen::Index P = r.size();
-    for (Eigen::Index j = 0; j < P; ++j)
-    {
-        double others = 0.0;
-        for (Eigen::Index i = 0; i < P; ++i)
-            if (i != j)
-                others +=
-                    A_(j, i) * chordSlope(points_[i].law, series_[size_t(i)], s[i], sAlpha_[size_t(i)], r[i]).value;
-        r[j] = solveScalarContact(points_[j].law, s[j], b[j] - others, A_(j, j), &series_[size_t(j)]).r;
-    }
-}
-
 int ContactSystem::solve(const double* s, const double* b, double* r, double* slope)
+{
+    return solve(s, b, r, slope, allPoints_.data(), size());
+}
+
+int ContactSystem::solve(const double* s, const double* b, double* r, double* slope, const int* points, int count)
 {
     if (diagonal_)
         return solveDecoupled(s, b, r, slope);
-    // The points that touch at n-1 or with the contact-free prediction at n+1.
-    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
-    int touching = 0;
-    Eigen::Index last = -1;
-    for (Eigen::Index j = 0; j < P; ++j)
+    listed_ = points;
+    listedCount_ = count;
+    // The candidates: the points that touch at n-1 or with the contact-free prediction at n+1.
+    active_.clear();
+    for (int k = 0; k < count; ++k)
+    {
+        const int j = points[k];
         if (s[j] > 0.0 || s[j] - b[j] > 0.0)
-        {
-            ++touching;
-            last = j;
-        }
+            active_.push_back(j);
+    }
     int iterations = 0;
-    if (touching == 1 && solveOneTouching(last, s, b, r, slope, iterations))
+    if (active_.size() == 1 && solveOneTouching(active_.front(), s, b, r, slope, iterations))
         return iterations;
-    if (touching == 0)
+    if (active_.empty())
     {
         releaseAll(b, r, slope);
         return 0;
@@ -185,15 +159,20 @@ void ContactSystem::record(Eigen::Index j, double rj, double slopej, const Known
 bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope,
                                      int& iterations)
 {
-    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
     const auto sol =
         solveScalarContact(points_[a].law, s[a], b[a], A_(a, a), &series_[size_t(a)], &known_[size_t(a)][1]);
-    for (Eigen::Index i = 0; i < P; ++i)
+    for (int k = 0; k < listedCount_; ++k)
+    {
+        const int i = listed_[k];
         if (i != a && !(s[i] - (b[i] - A_(i, a) * sol.slope) <= 0.0))
             return false;
-    for (Eigen::Index i = 0; i < P; ++i)
+    }
+    for (int k = 0; k < listedCount_; ++k)
+    {
+        const int i = listed_[k];
         if (i != a)
             record(i, b[i] - A_(i, a) * sol.slope, 0.0, KnownPower{}, r, slope);
+    }
     record(a, sol.r, sol.slope, sol.penetration, r, slope);
     iterations = sol.iterations;
     return true;
@@ -202,8 +181,9 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
 // No point can touch: every r is the contact-free b, every force 0.
 void ContactSystem::releaseAll(const double* b, double* r, double* slope)
 {
-    for (size_t j = 0; j < points_.size(); ++j)
+    for (int k = 0; k < listedCount_; ++k)
     {
+        const size_t j = size_t(listed_[k]);
         r[j] = b[j];
         slope[j] = 0.0;
         previousContact_[j] = olderContact_[j] = 0;
@@ -211,54 +191,195 @@ void ContactSystem::releaseAll(const double* b, double* r, double* slope)
     }
 }
 
-// The P x P Newton on phi(r) = r + A G(r) - b, warm-started from the previous steps where each
-// point was in contact, with a backtracking line search on |phi| and Gauss-Seidel sweeps of exact
-// scalar solves where the line search stalls.
+
+// The coupled points in contact. Every point outside the candidates T has G = 0 exactly as long as
+// it stays off the obstacle at n+1, and is then moved by T's forces alone, r_i = b_i - A_iT G_T; so
+// the Newton runs on T only (|T| x |T|), and a point that T's forces bring into contact joins T and
+// the Newton goes on from where it stopped. The root is that of the full P x P system.
 int ContactSystem::solveCoupled(const double* s, const double* b, double* r, double* slope)
 {
+    std::fill(inActive_.begin(), inActive_.end(), 0);
+    for (int j : active_)
+        admit(j, s, b[j]);
+    int iterations = 0;
+    do
+        iterations += solveActive(s, b);
+    while (admitNewlyTouching(s, b));
+    for (int k = 0; k < listedCount_; ++k)
+    {
+        const int j = listed_[k];
+        if (inActive_[size_t(j)])
+            record(j, r_[j], G_[j], rootPower(s[j], sAlpha_[size_t(j)], G_[j], points_[j].law, r_[j]), r, slope);
+        else
+            record(j, r_[j], 0.0, KnownPower{}, r, slope);
+    }
+    return iterations;
+}
+
+// Point j joins T: its [s]_+^alpha for the solve, and its start, warm from the previous steps where
+// it was in contact (linear extrapolation over two), else `start`.
+void ContactSystem::admit(int j, const double* s, double start)
+{
+    inActive_[size_t(j)] = 1;
+    sAlpha_[size_t(j)] = powerOf(s[j], points_[j].law.exponent, &known_[size_t(j)][1]);
+    r_[j] = olderContact_[j] ? 2.0 * previousR_[j] - olderR_[j] : previousContact_[j] ? previousR_[j] : start;
+}
+
+// Every point outside T moved by T's forces; those that would then touch at n+1 join T (true if any).
+bool ContactSystem::admitNewlyTouching(const double* s, const double* b)
+{
+    const int n = static_cast<int>(active_.size());
+    bool added = false;
+    for (int m = 0; m < listedCount_; ++m)
+    {
+        const int j = listed_[m];
+        if (inActive_[size_t(j)])
+            continue;
+        double moved = b[j];
+        for (int k = 0; k < n; ++k)
+            moved -= A_(j, active_[size_t(k)]) * G_[active_[size_t(k)]];
+        r_[j] = moved;
+        if (s[j] - moved > 0.0)
+        {
+            active_.push_back(j);
+            admit(j, s, moved);
+            added = true;
+        }
+    }
+    return added;
+}
+
+// The Newton on phi_T(r_T) = r_T + A_TT G_T(r_T) - b_T from r_ on T, with a backtracking line search
+// on |phi| and Gauss-Seidel sweeps of exact scalar solves where the line search stalls. Leaves
+// r_ and G_ (at r_) on T; returns the iterations.
+int ContactSystem::solveActive(const double* s, const double* b)
+{
     constexpr int maxIterations = 100;
-    const Eigen::Index P = static_cast<Eigen::Index>(points_.size());
-    for (Eigen::Index j = 0; j < P; ++j)
-        sAlpha_[size_t(j)] = powerOf(s[j], points_[j].law.exponent, &known_[size_t(j)][1]);
-    for (Eigen::Index j = 0; j < P; ++j)
-        r_[j] = olderContact_[j] ? 2.0 * previousR_[j] - olderR_[j] : previousContact_[j] ? previousR_[j] : b[j];
-    // G_ and dG_ always hold the slopes at the last point residual() was called at.
-    double norm = residual(s, b, r_, phi_);
+    const int n = static_cast<int>(active_.size());
+    for (int k = 0; k < n; ++k)
+    {
+        const int j = active_[size_t(k)];
+        rT_[k] = r_[j];
+        bT_[k] = b[j];
+        for (int l = 0; l < n; ++l)
+            AT_(k, l) = A_(j, active_[size_t(l)]);
+    }
+    double norm = residual(s, rT_, phiT_);
     int it = 0;
     while (norm > 0.0 && it < maxIterations)
     {
         ++it;
-        if (!newtonStep(s, b, norm))
+        if (!newtonStep(s, norm))
             break;
     }
-    for (Eigen::Index j = 0; j < P; ++j)  // every exit above leaves G_ at r_
-        record(j, r_[j], G_[j], rootPower(s[j], sAlpha_[size_t(j)], G_[j], points_[j].law, r_[j]), r, slope);
+    for (int k = 0; k < n; ++k)  // every exit above leaves GT_ at rT_
+    {
+        r_[active_[size_t(k)]] = rT_[k];
+        G_[active_[size_t(k)]] = GT_[k];
+    }
     return it;
 }
 
-// One iteration of the coupled Newton from r_ (residual `norm`, updated). False when converged:
-// the residual or the step is at rounding, or a sweep no longer lowers the residual.
-bool ContactSystem::newtonStep(const double* s, const double* b, double& norm)
+// phi = r + A_TT G(r) - b_T on T, with GT_ and dGT_ written at r; returns |phi|_inf.
+double ContactSystem::residual(const double* s, const Eigen::VectorXd& r, Eigen::VectorXd& phi)
+{
+    const int n = static_cast<int>(active_.size());
+    for (int k = 0; k < n; ++k)
+    {
+        const int j = active_[size_t(k)];
+        const ChordSlope c =
+            chordSlope(points_[j].law, series_[size_t(j)], s[j], sAlpha_[size_t(j)], r[k], &anchors_[size_t(j)]);
+        GT_[k] = c.value;
+        dGT_[k] = c.derivative;
+    }
+    phi.head(n).noalias() = AT_.topLeftCorner(n, n) * GT_.head(n);
+    phi.head(n) += r.head(n) - bT_.head(n);
+    return phi.head(n).lpNorm<Eigen::Infinity>();
+}
+
+// One sweep of exact scalar solves over T, each point against the others' current forces.
+void ContactSystem::gaussSeidelSweep(const double* s)
+{
+    const int n = static_cast<int>(active_.size());
+    for (int k = 0; k < n; ++k)  // the slopes at rT_ (a failed line search left its last trial's)
+    {
+        const int j = active_[size_t(k)];
+        GT_[k] = chordSlope(points_[j].law, series_[size_t(j)], s[j], sAlpha_[size_t(j)], rT_[k]).value;
+    }
+    for (int k = 0; k < n; ++k)
+    {
+        const int j = active_[size_t(k)];
+        double others = 0.0;
+        for (int l = 0; l < n; ++l)
+            if (l != k)
+                others += AT_(k, l) * GT_[l];
+        rT_[k] = solveScalarContact(points_[j].law, s[j], bT_[k] - others, AT_(k, k), &series_[size_t(j)]).r;
+        GT_[k] = chordSlope(points_[j].law, series_[size_t(j)], s[j], sAlpha_[size_t(j)], rT_[k]).value;
+    }
+}
+
+namespace
+{
+// Solves J x = y in place (J: n x n, column-major with leading dimension ld, overwritten by its LU
+// factors; y overwritten by x) by Gaussian elimination with partial pivoting. Eigen's decompositions
+// reallocate when n changes from solve to solve; this works in the caller's storage.
+void solveInPlace(double* J, int ld, int n, double* y)
+{
+    auto at = [&](int i, int k) -> double& { return J[static_cast<ptrdiff_t>(k) * ld + i]; };
+    for (int k = 0; k < n; ++k)
+    {
+        int pivot = k;
+        for (int i = k + 1; i < n; ++i)
+            if (std::abs(at(i, k)) > std::abs(at(pivot, k)))
+                pivot = i;
+        if (pivot != k)
+        {
+            for (int c = k; c < n; ++c)
+                std::swap(at(k, c), at(pivot, c));
+            std::swap(y[k], y[pivot]);
+        }
+        for (int i = k + 1; i < n; ++i)
+        {
+            const double m = at(i, k) / at(k, k);
+            for (int c = k + 1; c < n; ++c)
+                at(i, c) -= m * at(k, c);
+            y[i] -= m * y[k];
+        }
+    }
+    for (int k = n - 1; k >= 0; --k)
+    {
+        double v = y[k];
+        for (int c = k + 1; c < n; ++c)
+            v -= at(k, c) * y[c];
+        y[k] = v / at(k, k);
+    }
+}
+}  // namespace
+
+// One iteration of the Newton on T from rT_ (residual `norm`, updated). False when converged: the
+// residual or the step is at rounding, or a sweep no longer lowers the residual.
+bool ContactSystem::newtonStep(const double* s, double& norm)
 {
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    const Eigen::Index P = r_.size();
-    AG_.noalias() = A_ * G_;
-    const double scale = r_.lpNorm<Eigen::Infinity>()
-                         + Eigen::Map<const Eigen::VectorXd>(b, P).lpNorm<Eigen::Infinity>()
-                         + AG_.lpNorm<Eigen::Infinity>();
+    const int n = static_cast<int>(active_.size());
+    const auto A = AT_.topLeftCorner(n, n);
+    AGT_.head(n).noalias() = A * GT_.head(n);
+    const double scale = rT_.head(n).lpNorm<Eigen::Infinity>() + bT_.head(n).lpNorm<Eigen::Infinity>()
+                         + AGT_.head(n).lpNorm<Eigen::Infinity>();
     if (norm <= 4.0 * eps * scale)
         return false;
-    J_.noalias() = A_ * dG_.asDiagonal();
-    J_.diagonal().array() += 1.0;
-    lu_.compute(J_);
-    step_.noalias() = lu_.solve(phi_);  // into preallocated storage: no temporary
-    step_ = -step_;
+    // J = I + A_TT diag(dG), factorised in place with the step.
+    auto J = JT_.topLeftCorner(n, n);
+    J.noalias() = A * dGT_.head(n).asDiagonal();
+    J.diagonal().array() += 1.0;
+    stepT_.head(n) = -phiT_.head(n);
+    solveInPlace(JT_.data(), static_cast<int>(JT_.rows()), n, stepT_.data());
     double t = 1.0;
     bool accepted = false;
     for (int halving = 0; halving < 40; ++halving, t *= 0.5)
     {
-        trial_ = r_ + t * step_;
-        const double trialNorm = residual(s, b, trial_, trialPhi_);
+        trialT_.head(n) = rT_.head(n) + t * stepT_.head(n);
+        const double trialNorm = residual(s, trialT_, trialPhiT_);
         if (std::isfinite(trialNorm) && trialNorm <= (1.0 - 1e-4 * t) * norm)
         {
             accepted = true;
@@ -267,17 +388,17 @@ bool ContactSystem::newtonStep(const double* s, const double* b, double& norm)
     }
     if (accepted)
     {
-        // The trial's residual and slopes (G_, dG_) are those of the new point.
-        const double moved = (t * step_).lpNorm<Eigen::Infinity>();
-        r_.swap(trial_);
-        phi_.swap(trialPhi_);
-        norm = phi_.lpNorm<Eigen::Infinity>();
+        // The trial's residual and slopes (GT_, dGT_) are those of the new point.
+        const double moved = t * stepT_.head(n).lpNorm<Eigen::Infinity>();
+        rT_.head(n) = trialT_.head(n);
+        phiT_.head(n) = trialPhiT_.head(n);
+        norm = phiT_.head(n).lpNorm<Eigen::Infinity>();
         return moved > eps * scale;
     }
     // Stalled line search (kinks of [.]_+ at alpha near 1): a sweep of exact scalar solves.
-    gaussSeidelSweep(s, b, r_);
+    gaussSeidelSweep(s);
     const double before = norm;
-    norm = residual(s, b, r_, phi_);
+    norm = residual(s, rT_, phiT_);
     return norm < before;
 }
 

@@ -2,8 +2,9 @@
 // The implicit contact solve of docs/design.md section 2 for P coupled points:
 //   r + A G(r) = b,   A = (dt^2/mu) Phi Phi^T W,   G_j the chord slope of point j.
 // A diagonal A splits into P scalar solves (the reference grid: Phi Phi^T W = I). Otherwise a
-// Newton iteration with a backtracking line search on |phi|, falling back to nonlinear
-// Gauss-Seidel sweeps of scalar solves when the line search stalls.
+// Newton iteration on the points that can touch this step (a point off the obstacle at both ends
+// has no force, so it only follows the others), with a backtracking line search on |phi|, falling
+// back to nonlinear Gauss-Seidel sweeps of scalar solves when the line search stalls.
 
 #include "physics/ContactLaw.h"
 #include "physics/Obstacle.h"
@@ -38,6 +39,10 @@ public:
     // RT. s_j = g_j - u_j^{n-1}, b_j = u~_j - u_j^{n-1}. Writes r and the slopes G_j(r_j)
     // (force per metre -G_j). Returns the iteration count (max over points when decoupled).
     int solve(const double* s, const double* b, double* r, double* slope);
+    // RT: the same over the listed points only (`count` indices, ascending); the others must be off
+    // their obstacle at n-1 and n+1 whatever the listed ones do (out of the string's reach), and
+    // their r and slope are left as they are. No allocation.
+    int solve(const double* s, const double* b, double* r, double* slope, const int* points, int count);
     // RT: the two halves of solve() for point j of a diagonal system, for a caller that solves many
     // strings' points together (StringBank): its scalar equation for s_j, b_j, and the bookkeeping
     // of its solution (the known powers the next solves start from).
@@ -45,14 +50,17 @@ public:
     void recordScalar(int j, const ScalarContactSolution& solution);
 
 private:
-    // phi = r + A G(r) - b, with G_ and dG_ written at r; returns |phi|_inf.
-    double residual(const double* s, const double* b, const Eigen::VectorXd& r, Eigen::VectorXd& phi);
-    void gaussSeidelSweep(const double* s, const double* b, Eigen::VectorXd& r);
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
     bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
     void releaseAll(const double* b, double* r, double* slope);
     int solveCoupled(const double* s, const double* b, double* r, double* slope);
-    bool newtonStep(const double* s, const double* b, double& norm);
+    void admit(int j, const double* s, double start);
+    bool admitNewlyTouching(const double* s, const double* b);
+    int solveActive(const double* s, const double* b);
+    // On the candidates T (active_): phi = r + A_TT G(r) - b_T with GT_, dGT_ written at r; |phi|_inf.
+    double residual(const double* s, const Eigen::VectorXd& r, Eigen::VectorXd& phi);
+    void gaussSeidelSweep(const double* s);
+    bool newtonStep(const double* s, double& norm);
     void record(Eigen::Index j, double rj, double slopej, const KnownPower& power, double* r, double* slope);
 
     std::vector<ContactPoint> points_;
@@ -64,12 +72,19 @@ private:
     std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
     Eigen::MatrixXd A_;
     bool diagonal_ = true;
-    Eigen::VectorXd G_, dG_, phi_, trialPhi_, step_, trial_, r_, AG_;
-    Eigen::MatrixXd J_;
+    Eigen::VectorXd G_, r_;  // per point: the solve's slopes and r
+    // The candidates T (point indices, capacity P) and the Newton's workspace on them: the first |T|
+    // entries of each vector, the top-left |T| x |T| of each matrix, indexed by position in T.
+    std::vector<int> active_;
+    std::vector<int> allPoints_;                     // 0 .. P-1
+    const int* listed_ = nullptr;                 // the points of the solve in progress
+    int listedCount_ = 0;
+    std::vector<char> inActive_;
+    Eigen::VectorXd rT_, bT_, GT_, dGT_, phiT_, trialT_, trialPhiT_, stepT_, AGT_;
+    Eigen::MatrixXd AT_, JT_;
     // Warm start of the coupled Newton: the last two steps' r where the point was in contact.
     std::vector<double> previousR_, olderR_;
     std::vector<char> previousContact_, olderContact_;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 }  // namespace jawari

@@ -77,16 +77,16 @@ inline double predict(const double* a, const double* e, const double* current, d
                          : predictWith<false>(a, e, current, previous, h, h2, M, second);
 }
 
-// predict() and the contact projections u_j = phi_j . q~ of up to kMaxFused points in the same pass
-// (phi_j at phi + j stride): one read of the state instead of 1 + P. M a multiple of 8. Returns
-// h . q~ (and h2 . q~ into `second` when h2 is given).
+// predict() and the contact projections of up to kMaxFused points in the same pass: for k < P,
+// u[rows[k]] = phi_j . q~ with j = rows[k] and phi_j at phi + j stride. One read of the state instead
+// of 1 + P. M a multiple of 8. Returns h . q~ (and h2 . q~ into `second` when h2 is given).
 inline constexpr int kMaxFused = 8;
 template <bool Second>
 inline double predictProjectWith(const double* __restrict a, const double* __restrict e,
                                  const double* __restrict current, double* __restrict previous,
                                  const double* __restrict h, const double* __restrict h2,
-                                 const double* __restrict phi, int stride, int P, int M, double* __restrict u,
-                                 double& second)
+                                 const double* __restrict phi, int stride, const int* __restrict rows, int P, int M,
+                                 double* __restrict u, double& second)
 {
     alignas(64) double ph[8] = {}, ph2[8] = {};
     alignas(64) double pu[kMaxFused][8] = {};
@@ -104,24 +104,24 @@ inline double predictProjectWith(const double* __restrict a, const double* __res
         }
         for (int j = 0; j < P; ++j)
         {
-            const double* __restrict row = phi + static_cast<ptrdiff_t>(j) * stride + p;
+            const double* __restrict row = phi + static_cast<ptrdiff_t>(rows[j]) * stride + p;
 #pragma omp simd aligned(next : 64)
             for (int k = 0; k < 8; ++k)
                 pu[j][k] += row[k] * next[k];
         }
     }
     for (int j = 0; j < P; ++j)
-        u[j] = sum8(pu[j]);
+        u[rows[j]] = sum8(pu[j]);
     second = Second ? sum8(ph2) : 0.0;
     return sum8(ph);
 }
 
 inline double predictProject(const double* a, const double* e, const double* current, double* previous,
-                             const double* h, const double* h2, const double* phi, int stride, int P, int M, double* u,
-                             double& second)
+                             const double* h, const double* h2, const double* phi, int stride, const int* rows, int P,
+                             int M, double* u, double& second)
 {
-    return h2 != nullptr ? predictProjectWith<true>(a, e, current, previous, h, h2, phi, stride, P, M, u, second)
-                         : predictProjectWith<false>(a, e, current, previous, h, h2, phi, stride, P, M, u, second);
+    return h2 != nullptr ? predictProjectWith<true>(a, e, current, previous, h, h2, phi, stride, rows, P, M, u, second)
+                         : predictProjectWith<false>(a, e, current, previous, h, h2, phi, stride, rows, P, M, u, second);
 }
 
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw

@@ -33,6 +33,13 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     buildContactShapes(config);
     markCoupledModes(config);
     prepareContactMethods(config, stringResponse());
+    live_.assign(P_, 1);
+    liveRows_.resize(P_);
+    pressing_.reserve(P_);
+    reach_.assign(P_, std::numeric_limits<double>::infinity());
+    leaveOutOfReach_ = config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving && P_ >= 2
+                       && !system_.isDiagonal();
+    computeReach();
     if (transform_)
     {
         shapes_.clear();  // the transform reaches the points
@@ -172,6 +179,7 @@ void ModalSolver::restartFromModes()
     // compliance deflections and the quadratised variable (xi = sqrt(2 V) at n and n-1).
     system_.reset();
     compliance_.reset();
+    wakeAll();
     projectActive(state_.q(), uC_.data());
     projectActive(state_.qPrev(), uCPrev_.data());
     pickup_ = kernels::dot(state_.h(), state_.q(), state_.activeCount());
@@ -239,6 +247,8 @@ void ModalSolver::finishStep(const ScalarContactSolution& solution)
 
 void ModalSolver::setExternalForce(double newtons)
 {
+    if (newtons == 0.0 && externalForce_ != 0.0)
+        reachStale_ = true;  // the energy the force put in
     externalForce_ = excitationShape_.empty() ? 0.0 : newtons;
 }
 
@@ -259,11 +269,12 @@ double ModalSolver::obstacleEnergy() const
 {
     if (method_ == ContactMethod::quadratised)
         return quadratised_.energy();
-    return contactPotentialEnergy(uC_.data(), uCPrev_.data());
+    return contactPotentialEnergy(uC_.data(), uCPrev_.data(), true);
 }
 
-// sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2 for the points' displacements u at n and n-1.
-double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev) const
+// sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2 for the points' displacements u at n and n-1 (with
+// `liveOnly`, over the live points: the others are off their obstacle, and their u is not kept).
+double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly) const
 {
     auto psi = [&](int j, double penetration) {
         return method_ == ContactMethod::quadraticSpline ? splines_[size_t(j)].potential(penetration)
@@ -271,7 +282,8 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev)
     };
     double sum = 0.0;
     for (int j = 0; j < P_; ++j)
-        sum += contacts_[j].weight * 0.5
+        if (!liveOnly || live_[size_t(j)])
+            sum += contacts_[j].weight * 0.5
                * (psi(j, contacts_[j].height - u[j] - compliance_.delta(j))
                   + psi(j, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
     return sum;
@@ -308,6 +320,8 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         compliance_.rescale(complianceScale, contacts_);
         updateCouplings();
     }
+    computeReach();
+    reachStale_ = true;  // the same motion at another pitch holds another energy
 }
 
 // For pickup weights h over the active modes: what a force at each point and at the excitation does
@@ -356,6 +370,9 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
 {
     const bool lawChanged = contacts_[size_t(j)].law.stiffness != law.stiffness
                             || contacts_[size_t(j)].law.exponent != law.exponent;
+    if (contacts_[size_t(j)].height != height)
+        wakeAll();  // a sleeping point may now be within reach
+    reachStale_ = true;  // and the obstacles' energy is another
     contacts_[size_t(j)].law = law;
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, law);
@@ -383,6 +400,7 @@ void ModalSolver::resetToRest()
     system_.reset();
     std::fill(uC_.begin(), uC_.end(), 0.0);
     std::fill(uCPrev_.begin(), uCPrev_.end(), 0.0);
+    wakeAll();
     compliance_.reset();
     quadratised_.reset();
     pickup_ = pickupTilde_ = 0.0;
@@ -406,7 +424,7 @@ void ModalSolver::takeMotionFrom(ModalSolver& other)
 int ModalSolver::solveContacts()
 {
     if (method_ == ContactMethod::energyConserving)
-        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
+        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), liveRows_.data(), liveCount_);
     // The explicit methods start from the penetration at n.
     for (int j = 0; j < P_; ++j)
         penetration_[j] = contacts_[j].height - uC_[j] - compliance_.delta(j);
@@ -478,35 +496,124 @@ int ModalSolver::solveSplines()
 
 void ModalSolver::stepSingle()
 {
-    const bool fused = !transform_ && externalForce_ == 0.0 && P_ > 0 && P_ <= kernels::kMaxFused;
-    predictAtPoints(fused);
+    if (leaveOutOfReach_)
+    {
+        if (externalForce_ != 0.0)
+            wakeAll();
+        else if (reachStale_ || --stepsToReachCheck_ <= 0)
+            refreshReach();
+    }
+    predictAtPoints();
     lastIterations_ = 0;
-    bool anyForce = false;
+    pressing_.clear();
     if (P_ > 0)
     {
-        for (int j = 0; j < P_; ++j)
+        for (int k = 0; k < liveCount_; ++k)
         {
+            const int j = liveRows_[size_t(k)];
             s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
             b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.deltaPrev(j);
         }
         lastIterations_ = solveContacts();
-        for (int j = 0; j < P_; ++j)
-            anyForce = anyForce || slope_[j] != 0.0;
+        for (int k = 0; k < liveCount_; ++k)
+            if (slope_[liveRows_[size_t(k)]] != 0.0)
+                pressing_.push_back(liveRows_[size_t(k)]);
     }
-    if (anyForce)
+    if (!pressing_.empty())
         applyContactForces();
     endSingleStep();
 }
 
+// reach_j = sqrt((2/mu) sum_p phi_p(x_j)^2 kappa_p^2) + 2 sqrt(C_jj) for every point, so that a string of
+// energy H has |u_j + delta_j| <= sqrt(H) reach_j. Mode p's share of H^{n-1/2} is
+//   E_p = (mu/2) (C1 (q^n - q^{n-1})^2 / dt^2 + C2 q^n q^{n-1}) = (mu/2) (a D^2 + (C2/4) S^2)
+// with D = q^n - q^{n-1}, S = q^n + q^{n-1}, a = C1/dt^2 - C2/4 (both weights positive for a stable mode),
+// so |q^n| <= (|S| + |D|)/2 <= sqrt(2 E_p / mu) kappa_p, kappa_p = 1/sqrt(C2) + 1/(2 sqrt(a)) (the larger of
+// the two coefficient sets'); Cauchy-Schwarz over the modes gives the first term. The dropped modes'
+// spring holds delta^T C^-1 delta / 4 <= H, so |delta_j| <= 2 sqrt(H C_jj). RT (no allocation).
+void ModalSolver::computeReach()
+{
+    if (!leaveOutOfReach_)
+        return;
+    auto kappa = [&](const ExactModeCoefficients& c) {
+        const double a = c.kineticWeight / (dt_ * dt_) - 0.25 * c.potentialWeight;
+        if (!(c.potentialWeight > 0.0) || !(a > 0.0))
+            return std::numeric_limits<double>::infinity();
+        return 1.0 / std::sqrt(c.potentialWeight) + 0.5 / std::sqrt(a);
+    };
+    for (int j = 0; j < P_; ++j)
+    {
+        double sum = 0.0;
+        for (int p = 0; p < M_; ++p)
+        {
+            const double k = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
+            const double phi = shapes_[size_t(j) * M_ + p];
+            sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
+        }
+        const double spring =
+            compliance_.active() ? std::max(compliance_.complianceW()(j, j) / contacts_[j].weight, 0.0) : 0.0;
+        reach_[size_t(j)] = std::sqrt(2.0 * sum / mu_) + 2.0 * std::sqrt(spring);
+    }
+}
+
+// H^{n-1/2} measured, and the points within sqrt(H) reach_j of their obstacle (5 % spare for the
+// Newton's tolerance) taken into the solve; a point that joins gets its u^n and u^{n-1}.
+void ModalSolver::refreshReach()
+{
+    reachStale_ = false;
+    stepsToReachCheck_ = kReachCheckSteps;
+    const double H = stringEnergy() + obstacleEnergy() + compliance_.energy();
+    const double radius = 1.05 * std::sqrt(std::max(H, 0.0));
+    liveCount_ = 0;
+    for (int j = 0; j < P_; ++j)
+    {
+        const bool reachable = !(contacts_[j].height + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
+        if (reachable)
+        {
+            wake(j);
+            liveRows_[size_t(liveCount_++)] = j;
+        }
+        else
+            slope_[j] = 0.0;  // left out of the solve: no force
+        live_[size_t(j)] = reachable;
+    }
+}
+
+// Point j's u^n and u^{n-1} from the state, if it was not live.
+void ModalSolver::wake(int j)
+{
+    if (live_[size_t(j)])
+        return;
+    uC_[j] = kernels::dot(state_.phi(j), state_.q(), state_.paddedCount());
+    uCPrev_[j] = kernels::dot(state_.phi(j), state_.qPrev(), state_.paddedCount());
+    live_[size_t(j)] = 1;
+}
+
+void ModalSolver::wakeAll()
+{
+    if (liveCount_ == P_)
+        return;
+    for (int j = 0; j < P_; ++j)
+    {
+        wake(j);
+        liveRows_[size_t(j)] = j;
+    }
+    liveCount_ = P_;
+}
+
 // q~ = a q - e q^{n-1}, written over q^{n-1}, with any explicit force; its pickup and contact
 // projections (pickupTilde_, uTilde_).
-void ModalSolver::predictAtPoints(bool fused)
+void ModalSolver::predictAtPoints()
 {
     double* next = state_.qPrev();
     const int Mpad = state_.paddedCount();
-    if (fused)
-        pickupTilde_ = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(),
-                                               state_.phi(0), state_.stride(), P_, Mpad, uTilde_.data(), pickupTildeB_);
+    // The first kMaxFused live points are projected in the prediction's own pass (not with an explicit
+    // force, which joins q~ after it), the rest one by one.
+    const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(liveCount_, kernels::kMaxFused);
+    if (fused > 0)
+        pickupTilde_ =
+            kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), state_.phi(0),
+                                    state_.stride(), liveRows_.data(), fused, Mpad, uTilde_.data(), pickupTildeB_);
     else
         pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
                                         pickupTildeB_);
@@ -518,13 +625,19 @@ void ModalSolver::predictAtPoints(bool fused)
         pickupTildeB_ += externalForce_ * pickupPhiEB_;
     }
     if (transform_)
+    {
         transform_->sample(next, uTilde_.data());
-    else if (!fused)
-        for (int j = 0; j < P_; ++j)
-            uTilde_[j] = kernels::dot(state_.phi(j), next, Mpad);
+        return;
+    }
+    for (int k = fused; k < liveCount_; ++k)
+    {
+        const int j = liveRows_[size_t(k)];
+        uTilde_[j] = kernels::dot(state_.phi(j), next, Mpad);
+    }
 }
 
-// q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r); u_C^{n+1} = u~ + A f, and the pickup likewise.
+// q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r); u_C^{n+1} = u~ + A f at the live points, and the
+// pickup likewise. Only the pressing points (pressing_) have a force.
 void ModalSolver::applyContactForces()
 {
     double* next = state_.qPrev();
@@ -535,30 +648,33 @@ void ModalSolver::applyContactForces()
         transform_->spread(pointForce_.data(), forceScale_, next);
     }
     else
-        for (int j = 0; j < P_; ++j)
-            if (slope_[j] != 0.0)
-                kernels::axpy(-forceScale_ * contacts_[j].weight * slope_[j], state_.phi(j), next,
-                              state_.paddedCount());
+        for (int i : pressing_)
+            kernels::axpy(-forceScale_ * contacts_[i].weight * slope_[i], state_.phi(i), next, state_.paddedCount());
     const auto& A = stringCoupling_;
-    for (int j = 0; j < P_; ++j)
+    for (int k = 0; k < liveCount_; ++k)
     {
+        const int j = liveRows_[size_t(k)];
         double Af = 0.0;
-        for (int i = 0; i < P_; ++i)
+        for (int i : pressing_)
             Af -= A(j, i) * slope_[i];
         uTilde_[j] += Af;
-        pickupTilde_ -= pickupPhiW_[j] * slope_[j];
-        pickupTildeB_ -= pickupPhiWB_[j] * slope_[j];
+    }
+    for (int i : pressing_)
+    {
+        pickupTilde_ -= pickupPhiW_[i] * slope_[i];
+        pickupTildeB_ -= pickupPhiWB_[i] * slope_[i];
     }
 }
 
-// The step's end: the compliance, the contact displacements and penetration, q^{n+1} as q.
+// The step's end: the compliance, the live points' contact displacements and penetration, q^{n+1} as q.
 void ModalSolver::endSingleStep()
 {
     if (P_ > 0)
         compliance_.advance(slope_.data());
     lastPenetration_ = -std::numeric_limits<double>::infinity();
-    for (int j = 0; j < P_; ++j)
+    for (int k = 0; k < liveCount_; ++k)
     {
+        const int j = liveRows_[size_t(k)];
         uCPrev_[j] = uC_[j];
         uC_[j] = uTilde_[j];
         lastPenetration_ = std::max(lastPenetration_, contacts_[j].height - uC_[j] - compliance_.delta(j));
@@ -625,7 +741,7 @@ ModalSolver::Energy ModalSolver::energy()
     std::vector<double> u(P_), uPrev(P_);
     projectActive(current.data(), u.data());
     projectActive(previous.data(), uPrev.data());
-    out.contact = contactPotentialEnergy(u.data(), uPrev.data());
+    out.contact = contactPotentialEnergy(u.data(), uPrev.data(), false);
     if (method_ == ContactMethod::quadratised)
         out.contact = quadratised_.energy();  // the quadratised contact energy, V = xi^2/2
     if (compliance_.active())

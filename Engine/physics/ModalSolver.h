@@ -57,6 +57,9 @@ struct ModalSolverConfig
     // Step every mode, even those nothing couples to and that start at rest: the plugin's voices
     // take state across rebuilds (a new pluck or pickup point) and must not drop a ringing mode.
     bool keepEveryMode = false;
+    // Leave the contact points the string cannot reach out of the step (ModalSolver, leaveOutOfReach_);
+    // off: every point projected and solved every step (the same motion to rounding, at more cost).
+    bool leaveOutOfReach = true;
 };
 
 class ModalSolver
@@ -90,7 +93,11 @@ public:
     void setExternalForce(double newtons);
     // RT: switch to the damping set with releaseSigma added (note-off) or back. The state carries
     // over unchanged, so the sound does not jump.
-    void setReleased(bool released) { state_.useReleased(released); }
+    void setReleased(bool released)
+    {
+        state_.useReleased(released);
+        reachStale_ = true;  // the energy is measured with the other coefficient set from now on
+    }
     bool released() const { return state_.released(); }
     // RT: the string part of H^{n-1/2} (no contact part), without allocating.
     double stringEnergy() const;
@@ -135,6 +142,9 @@ public:
     // Projection path only.
     int activeModeCount() const { return state_.activeCount(); }
     int contactCount() const { return P_; }
+    // Points the contact solve takes this step: those within the string's reach (see leaveOutOfReach_).
+    int livePointCount() const { return liveCount_; }
+    bool pointLive(int j) const { return live_[size_t(j)] != 0; }
     bool usesTransform() const { return transform_ != nullptr; }
     double timeStep() const { return dt_; }
 
@@ -171,7 +181,7 @@ private:
     void stepSingle();  // one pass per step: many points, the transform path, or a force
     void predictPairStep();  // the pass of a pair's first step, or its second step's projections
     void finishPairStep();   // the point's slope_[0] applied (with one point), the layout advanced
-    void predictAtPoints(bool fused);
+    void predictAtPoints();
     void applyContactForces();
     void endSingleStep();
     int solveContacts();                  // slope_ from s_, b_ by the configured method
@@ -180,7 +190,11 @@ private:
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
-    double contactPotentialEnergy(const double* u, const double* uPrev) const;
+    double contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly) const;
+    void computeReach();
+    void refreshReach();
+    void wakeAll();
+    void wake(int j);
     double projectPickup(const double* h, std::vector<double>& phiW, double& phiE) const;
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
 
@@ -225,6 +239,23 @@ private:
     double pickupB_ = 0.0, pickupTildeB_ = 0.0;  // the second pickup's
     int lastIterations_ = 0;
     double lastPenetration_ = 0.0;
+
+    // Points out of reach. With the energy-conserving Newton and no external force the energy H never
+    // rises, and a string of energy H has |u_j + delta_j| <= sqrt(H) reach_j at every point (see
+    // computeReach), so a point whose obstacle lies further below than sqrt(H) reach_j cannot touch
+    // until H is measured again: it is neither projected nor solved (its s is -infinity, infinitely
+    // clear). H is measured every kReachCheckSteps steps, and at once after anything that can raise
+    // it (a retune, a new height or law, the release, a new state); an external force keeps every
+    // point live.
+    static constexpr int kReachCheckSteps = 512;
+    bool leaveOutOfReach_ = false;
+    std::vector<double> reach_;   // per point, m per sqrt(J)
+    std::vector<char> live_;      // per point
+    std::vector<int> liveRows_;   // the live points, ascending (the first liveCount_ entries)
+    std::vector<int> pressing_;   // the points with a force this step
+    int liveCount_ = 0;
+    int stepsToReachCheck_ = 0;
+    bool reachStale_ = true;
 };
 
 }  // namespace jawari
