@@ -124,6 +124,25 @@ inline double predictProject(const double* a, const double* e, const double* cur
                          : predictProjectWith<false>(a, e, current, previous, h, h2, phi, stride, rows, P, M, u, second);
 }
 
+// u[rows[k]] = phi_j . x (j = rows[k], phi_j at phi + j stride) for k < P <= kMaxFused, in one pass
+// over x: the projections predictProject() leaves over. Each row's sum is formed exactly as there, so
+// a point's projection does not depend on which pass took it. M a multiple of 8.
+inline void projectRows(const double* __restrict phi, int stride, const int* __restrict rows, int P,
+                        const double* __restrict x, int M, double* __restrict u)
+{
+    alignas(64) double pu[kMaxFused][8] = {};
+    for (int p = 0; p < M; p += 8)
+        for (int j = 0; j < P; ++j)
+        {
+            const double* __restrict row = phi + static_cast<ptrdiff_t>(rows[j]) * stride + p;
+#pragma omp simd aligned(pu : 64)
+            for (int k = 0; k < 8; ++k)
+                pu[j][k] += row[k] * x[p + k];
+        }
+    for (int j = 0; j < P; ++j)
+        u[rows[j]] = sum8(pu[j]);
+}
+
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
 // predictions with scalar contact corrections still to apply (docs/design.md section 2, with
 // q^{n+1} = q~^{n+1} + c phi):

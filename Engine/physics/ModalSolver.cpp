@@ -584,8 +584,9 @@ void ModalSolver::wake(int j)
 {
     if (live_[size_t(j)])
         return;
-    uC_[j] = kernels::dot(state_.phi(j), state_.q(), state_.paddedCount());
-    uCPrev_[j] = kernels::dot(state_.phi(j), state_.qPrev(), state_.paddedCount());
+    // Summed as the step's own projections are (kernels::projectRows).
+    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.q(), state_.paddedCount(), uC_.data());
+    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.qPrev(), state_.paddedCount(), uCPrev_.data());
     live_[size_t(j)] = 1;
 }
 
@@ -608,7 +609,7 @@ void ModalSolver::predictAtPoints()
     double* next = state_.qPrev();
     const int Mpad = state_.paddedCount();
     // The first kMaxFused live points are projected in the prediction's own pass (not with an explicit
-    // force, which joins q~ after it), the rest one by one.
+    // force, which joins q~ after it), the rest kMaxFused at a time, each sum in the same order.
     const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(liveCount_, kernels::kMaxFused);
     if (fused > 0)
         pickupTilde_ =
@@ -629,11 +630,9 @@ void ModalSolver::predictAtPoints()
         transform_->sample(next, uTilde_.data());
         return;
     }
-    for (int k = fused; k < liveCount_; ++k)
-    {
-        const int j = liveRows_[size_t(k)];
-        uTilde_[j] = kernels::dot(state_.phi(j), next, Mpad);
-    }
+    for (int k = fused; k < liveCount_; k += kernels::kMaxFused)
+        kernels::projectRows(state_.phi(0), state_.stride(), liveRows_.data() + k,
+                             std::min(kernels::kMaxFused, liveCount_ - k), next, Mpad, uTilde_.data());
 }
 
 // q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r); u_C^{n+1} = u~ + A f at the live points, and the
