@@ -58,9 +58,13 @@ VoiceQuality automaticQuality(const Scene& scene)
 {
     const double host = scene.simulation.outputRateHz;
     VoiceQuality q;
-    bool reachable = false;
+    bool reachable = false, bridge = false;
     for (const auto& o : scene.obstacles)
-        reachable = reachable || obstacleReachable(scene, o);
+    {
+        const bool touches = obstacleReachable(scene, o);
+        reachable = reachable || touches;
+        bridge = bridge || (touches && o.isDistributed());
+    }
     if (!reachable)
     {
         // No contact: every mode is exact at any rate (docs/design.md section 2), so the host rate
@@ -69,7 +73,8 @@ VoiceQuality automaticQuality(const Scene& scene)
     }
     else
     {
-        q = resolveQuality(*qualityByName("standard"), scene.string, host);
+        q = resolveQuality(*qualityByName("standard", bridge ? ObstacleKind::bridge : ObstacleKind::points),
+                           scene.string, host);
         // A soft contact lasts long enough to be followed at a lower rate: 16 steps per contact
         // time constant, and at least 2.5 x the highest kept mode so the modes are not aliased.
         double shortest = std::numeric_limits<double>::infinity();

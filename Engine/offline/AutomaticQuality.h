@@ -30,8 +30,9 @@ double contactTimeConstant(const Scene& scene, const Obstacle& obstacle);
 
 // The automatic choice: the scene's own modes/rate where given; else, when no obstacle can be
 // reached (none, or all beyond the string's reach), the modes below 20 kHz at the host rate (no
-// contact, nothing to oversample); otherwise the standard setting's modes, at the standard rate or
-// lower when the contact is soft enough: 16 steps per contact time constant and at least 2.5 x the
+// contact, nothing to oversample); otherwise the standard setting's modes (of the bridge table when a
+// distributed obstacle can be reached, Quality.h), at the standard rate or lower when the contact is
+// soft enough: 16 steps per contact time constant and at least 2.5 x the
 // highest kept mode.
 VoiceQuality automaticQuality(const Scene& scene);
 

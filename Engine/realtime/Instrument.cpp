@@ -95,8 +95,9 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
 
 VoiceQuality instrumentQuality(const InstrumentStructure& s)
 {
-    const int q = std::clamp(s.quality, 0, static_cast<int>(std::size(kQualitySettings)) - 1);
-    return resolveQuality(kQualitySettings[q], instrumentString(s), s.hostRateHz);
+    const auto settings = qualitySettings(s.shape == ObstacleShape::parabola ? ObstacleKind::bridge : ObstacleKind::points);
+    const int q = std::clamp(s.quality, 0, static_cast<int>(settings.size()) - 1);
+    return resolveQuality(settings[size_t(q)], instrumentString(s), s.hostRateHz);
 }
 
 std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
@@ -109,11 +110,6 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     config.string = pack->string;
     config.obstacles = instrumentObstacles(structure, ContactLaw{}, 0.0);
     const double L = pack->string.lengthMetres;
-    // A bridge on the nodes of the voice's own mode grid, L / (M + 1) apart: on the fixed contact
-    // grid (Obstacle.h) a 2 cm bridge is 23 coupled points, which cost 7x the instrument's budget
-    // until the contact solve is restricted to the points near contact (docs/measurements.md).
-    for (auto& o : config.obstacles)
-        o.spacing = L / (quality.modes + 1);
     config.excitationPosition = clampFraction(structure.pluckPosition) * L;
     config.pickupPosition = clampFraction(structure.pickupPosition) * L;
     config.secondPickupPosition = secondPickupFraction(structure.pickupPosition) * L;

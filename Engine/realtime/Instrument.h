@@ -64,7 +64,7 @@ struct InstrumentStructure
     double pluckPosition = 0.5;     // fraction of the length
     double pickupPosition = 0.99;   // fraction of the length
     double inharmonicity = 1.78e-5;
-    int quality = 1;  // index into kQualitySettings: standard (twelve strings in real time, docs/measurements.md)
+    int quality = 1;  // index into qualitySettings() for the obstacle: standard (twelve strings in real time, docs/measurements.md)
     // The quadratic spline by default: the Newton's accuracy at 1.5x its speed (docs/measurements.md).
     ContactMethod method = ContactMethod::quadraticSpline;
     double releaseSeconds = 0.4;

@@ -6,9 +6,16 @@
 namespace jawari
 {
 
-std::optional<QualitySetting> qualityByName(const std::string& name)
+std::span<const QualitySetting> qualitySettings(ObstacleKind kind)
 {
-    for (const auto& q : kQualitySettings)
+    if (kind == ObstacleKind::bridge)
+        return kBridgeQualitySettings;
+    return kQualitySettings;
+}
+
+std::optional<QualitySetting> qualityByName(const std::string& name, ObstacleKind kind)
+{
+    for (const auto& q : qualitySettings(kind))
         if (name == q.name)
             return q;
     return std::nullopt;

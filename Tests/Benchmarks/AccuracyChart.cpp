@@ -105,7 +105,10 @@ int main(int argc, char** argv)
         }
         std::fflush(out);
         // The named quality settings as the voice resolves them for this string at 48 kHz.
-        for (const auto& q : kQualitySettings)
+        bool bridge = false;
+        for (const auto& o : base.obstacles)
+            bridge = bridge || o.isDistributed();
+        for (const auto& q : qualitySettings(bridge ? ObstacleKind::bridge : ObstacleKind::points))
         {
             const auto vq = resolveQuality(q, base.string, base.simulation.outputRateHz);
             auto scene = base;
