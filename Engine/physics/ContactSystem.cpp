@@ -89,7 +89,7 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
             active_.push_back(j);
     }
     int iterations = 0;
-    if (active_.size() == 1 && solveOneTouching(active_.front(), s, b, r, slope, iterations))
+    if (!active_.empty() && solveOnePresser(s, b, r, slope, iterations))
         return iterations;
     if (active_.empty())
     {
@@ -176,6 +176,29 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
     record(a, sol.r, sol.slope, sol.penetration, r, slope);
     iterations = sol.iterations;
     return true;
+}
+
+// Most steps with several candidates have one point that presses and others its force keeps off
+// (a string on a bridge presses at the apex while the prediction dips its neighbours). The system's
+// root is unique (A = S W with S positive semidefinite, G nondecreasing), so a point whose scalar
+// solution leaves every other point off the obstacle at both ends gives the root exactly. The
+// others must then be off at n-1 (s <= 0), so the one tried is the candidate in contact at n-1 if
+// there is exactly one, or the one the prediction pushes deepest (largest s - b) if there is none.
+bool ContactSystem::solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations)
+{
+    int deepest = active_.front(), inContact = -1;
+    for (int a : active_)
+    {
+        if (s[a] - b[a] > s[deepest] - b[deepest])
+            deepest = a;
+        if (s[a] > 0.0)
+        {
+            if (inContact >= 0)
+                return false;  // two in contact at n-1: the Newton
+            inContact = a;
+        }
+    }
+    return solveOneTouching(inContact >= 0 ? inContact : deepest, s, b, r, slope, iterations);
 }
 
 // No point can touch: every r is the contact-free b, every force 0.

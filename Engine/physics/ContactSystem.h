@@ -51,6 +51,7 @@ public:
 
 private:
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
+    bool solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations);
     bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
     void releaseAll(const double* b, double* r, double* slope);
     int solveCoupled(const double* s, const double* b, double* r, double* slope);
