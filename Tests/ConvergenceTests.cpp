@@ -29,27 +29,39 @@ AccuracyFigures measure(const RenderResult& y, const RenderResult& ref, const Sc
 TEST_CASE("the voice at the reference's modes and rate is within the reference's own floor on every preset scene")
 {
     const double seconds = 0.3;
-    for (const char* name : {"paper-centre", "paper-tanpura", "sitar-bridge"})
+    for (const char* name :
+         {"paper-centre", "paper-tanpura", "tanpura-sa", "tanpura-pa", "sitar-bridge", "bass-frets", "free-string"})
     {
         auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name + ".json"));
         scene.simulation.durationSeconds = seconds;
         scene.simulation.rateHz = 42 * 48000.0;  // 2.016 MHz: the reference's rate, a whole multiple for the voice
+        // The voice (1001 modes, nothing dropped) and the reference, and the reference against itself
+        // with the pluck raised by 1e-4 (the floor).
+        auto voiceOf = [](Scene s) {
+            s.simulation.reference = false;
+            s.simulation.modes = kReferenceModes;
+            s.simulation.residualCompliance = false;
+            return renderScene(s);
+        };
         const auto reference = renderScene(scene);
         auto perturbed = scene;
         perturbed.excitation.amplitude *= 1.0 + 1e-4;
         const auto floor = measure(renderScene(perturbed), reference, scene, seconds);
-        auto voiceScene = scene;
-        voiceScene.simulation.reference = false;
-        voiceScene.simulation.modes = kReferenceModes;
-        voiceScene.simulation.residualCompliance = false;  // nothing is dropped
-        const auto voice = measure(renderScene(voiceScene), reference, scene, seconds);
+        const auto voice = measure(voiceOf(scene), reference, scene, seconds);
+        // What the two output filters (the voice's decimator, the reference's resampler) make of the
+        // same string without its obstacles: both exact there, so this is the filters' own difference.
+        auto free = scene;
+        free.obstacles.clear();
+        const auto filters = measure(voiceOf(free), renderScene(free), free, seconds);
         INFO(name << ": voice relL2 " << voice.relL2 << " LSD " << voice.lsd << " dB envelope " << voice.envelope
                   << " dB centroid " << voice.centroid << "; floor (1e-4) relL2 " << floor.relL2 << " LSD " << floor.lsd
-                  << " dB envelope " << floor.envelope << " dB centroid " << floor.centroid);
-        // What is left is the voice's decimator against the reference's resampler: relL2 6e-5 on a
-        // free string. Each measure within its floor, or within that filter's own difference.
-        CHECK(voice.relL2 <= std::max(floor.relL2, 1e-3));
-        CHECK(voice.lsd <= std::max(floor.lsd, 0.05));
+                  << " dB envelope " << floor.envelope << " dB centroid " << floor.centroid << "; filters relL2 "
+                  << filters.relL2 << " LSD " << filters.lsd);
+        // Each measure within its floor, or within twice the filters' difference (the buzz puts more of
+        // the sound near 20 kHz, where they differ: up to 1.6x the free string's relL2 here), or within
+        // a small absolute margin.
+        CHECK(voice.relL2 <= std::max({floor.relL2, 2.0 * filters.relL2, 1e-3}));
+        CHECK(voice.lsd <= std::max({floor.lsd, 2.0 * filters.lsd, 0.05}));
         CHECK(voice.envelope <= std::max(floor.envelope, 0.05));
         CHECK(voice.centroid <= std::max(floor.centroid, 1e-3));
     }

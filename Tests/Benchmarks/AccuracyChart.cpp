@@ -74,9 +74,12 @@ int main(int argc, char** argv)
     const double lsdTarget[2] = {2.0, 3.0};
     int sceneIndex = -1;
 
-    // The sweep tunes on the two paper scenes. The Sitar preset's string, on its parabolic bridge and
-    // on a point bridge at the bridge's apex, checks the named settings on scenes the sweep does not see.
-    for (const char* name : {"paper-centre", "paper-tanpura", "sitar-point", "sitar-bridge"})
+    // The sweep tunes on the two paper scenes. The named settings are checked on one scene per factory
+    // preset besides: the drone's Sa and Pa on the tanpura's point bridge, the Sitar's string on a point
+    // at its bridge's apex and on its parabolic bridge, the bass string rattling on its frets, and the
+    // free string.
+    for (const char* name : {"paper-centre", "paper-tanpura", "tanpura-sa", "tanpura-pa", "sitar-point", "sitar-bridge",
+                             "bass-frets", "free-string"})
     {
         ++sceneIndex;
         const auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
