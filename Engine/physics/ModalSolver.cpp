@@ -670,14 +670,16 @@ void ModalSolver::endSingleStep()
 {
     if (P_ > 0)
         compliance_.advance(slope_.data());
-    lastPenetration_ = -std::numeric_limits<double>::infinity();
+    double deepest = -std::numeric_limits<double>::infinity();  // a local: the stores below may alias a member
     for (int k = 0; k < liveCount_; ++k)
     {
         const int j = liveRows_[size_t(k)];
+        const double u = uTilde_[j];
         uCPrev_[j] = uC_[j];
-        uC_[j] = uTilde_[j];
-        lastPenetration_ = std::max(lastPenetration_, contacts_[j].height - uC_[j] - compliance_.delta(j));
+        uC_[j] = u;
+        deepest = std::max(deepest, contacts_[j].height - u - compliance_.delta(j));
     }
+    lastPenetration_ = deepest;
     state_.swapSingle();
     pickup_ = pickupTilde_;
     pickupB_ = pickupTildeB_;
