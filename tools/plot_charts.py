@@ -4,7 +4,8 @@ and jawari-polyphony.
 
     /usr/bin/python3 tools/plot_charts.py CHART_DIR
 
-Writes accuracy.png (error against real-time factor, one curve per method, points labelled (M, R)),
+Writes accuracy.png (error against real-time factor, one curve per method, points labelled (M, R),
+with the floor), accuracy-presets.png (the named settings on every preset's scene, with its floors),
 stability.png (where each method fails), scaling.png (cost against M and against P) and
 polyphony.png (one core's load against the number of sounding strings).
 Needs Debian's python3-matplotlib (tools/charts.sh installs it).
@@ -88,6 +89,12 @@ def accuracy_chart(directory):
                 ax.axvline(50.0, color="red", ls="--", lw=0.8)
                 ax.text(50.0, target, f" target: {target:.0f} dB at 50x", fontsize=7, color="red", va="bottom")
                 ax.set_ylim(0.0, 12.0)
+            floor = next((r for r in data if r["scene"] == scene and r["method"] == "floor:0.0001"), None)
+            if floor is not None and number(floor[key]) is not None:
+                # The reference against itself with the pluck raised by 1e-4: differences below it mean nothing.
+                ax.axhline(number(floor[key]), color="grey", ls="-.", lw=0.8)
+                ax.text(ax.get_xlim()[0], number(floor[key]), " floor (pluck +1e-4)", fontsize=7, color="grey",
+                        va="bottom")
             if reference is not None:
                 ax.axvline(float(reference["realtime_factor"]), color="grey", ls=":", lw=1)
                 ax.text(float(reference["realtime_factor"]), ax.get_ylim()[1], " reference (1001, 2 MHz)",
@@ -102,6 +109,38 @@ def accuracy_chart(directory):
             ax.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
     fig.savefig(os.path.join(directory, "accuracy.png"), dpi=110)
+    plt.close(fig)
+
+
+def presets_chart(directory):
+    """The named settings on every scene (one per factory preset), each against its floors."""
+    data = rows(os.path.join(directory, "accuracy.csv"))
+    scenes = list(dict.fromkeys(r["scene"] for r in data))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 5.5))
+    for ax, (key, label) in zip(axes, (("lsd_db_1s", "LSD over 0-1 s (dB)"),
+                                       ("envelope_db_1s", "band envelope distance over 0-1 s (dB)"))):
+        for method, colour, marker in (("quality:draft", "tab:green", "v"), ("quality:standard", "tab:blue", "o"),
+                                       ("quality:high", "tab:purple", "^"), ("floor:0.0001", "grey", "_"),
+                                       ("floor:1e-06", "lightgrey", "_")):
+            xs, ys = [], []
+            for i, scene in enumerate(scenes):
+                r = next((r for r in data if r["scene"] == scene and r["method"] == method), None)
+                if r is not None and number(r[key]) is not None and number(r[key]) > 0:
+                    xs.append(i)
+                    ys.append(number(r[key]))
+            ax.scatter(xs, ys, color=colour, marker=marker, s=60 if marker == "_" else 30,
+                       label=method.replace("quality:", "").replace("floor:", "floor, pluck +"))
+        ax.axhline(3.0, color="red", ls="--", lw=0.8)
+        ax.text(-0.4, 3.0, " 3 dB", fontsize=7, color="red", va="bottom")
+        ax.set_yscale("log")
+        ax.set_xticks(range(len(scenes)))
+        ax.set_xticklabels(scenes, rotation=30, ha="right", fontsize=8)
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="lower left")
+    fig.suptitle("Each preset's scene: the named settings against the reference, and the reference against itself")
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, "accuracy-presets.png"), dpi=110)
     plt.close(fig)
 
 
@@ -191,7 +230,8 @@ def polyphony_chart(directory):
 if __name__ == "__main__":
     directory = sys.argv[1] if len(sys.argv) > 1 else "Resources/Charts"
     accuracy_chart(directory)
+    presets_chart(directory)
     stability_chart(directory)
     scaling_chart(directory)
     polyphony_chart(directory)
-    print(f"wrote accuracy.png, stability.png, scaling.png, polyphony.png in {directory}")
+    print(f"wrote accuracy.png, accuracy-presets.png, stability.png, scaling.png, polyphony.png in {directory}")
