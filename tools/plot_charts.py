@@ -93,8 +93,8 @@ def accuracy_chart(directory):
             if floor is not None and number(floor[key]) is not None:
                 # The reference against itself with the pluck raised by 1e-4: differences below it mean nothing.
                 ax.axhline(number(floor[key]), color="grey", ls="-.", lw=0.8)
-                ax.text(ax.get_xlim()[0], number(floor[key]), " floor (pluck +1e-4)", fontsize=7, color="grey",
-                        va="bottom")
+                ax.text(0.01, number(floor[key]), "floor (pluck +1e-4)", fontsize=7, color="grey", va="bottom",
+                        transform=ax.get_yaxis_transform())
             if reference is not None:
                 ax.axvline(float(reference["realtime_factor"]), color="grey", ls=":", lw=1)
                 ax.text(float(reference["realtime_factor"]), ax.get_ylim()[1], " reference (1001, 2 MHz)",
