@@ -339,3 +339,37 @@ TEST_CASE("The MIDI strings spread across the stereo field by pitch with a secon
     CHECK(mono.correlation == Approx(1.0).epsilon(1e-12));
     CHECK(image(90, 0.0).rightOverLeft == Approx(1.0).epsilon(1e-12));
 }
+
+TEST_CASE("The instrument counts what it did: notes from rest, pulses, drone plucks, retunes, iterations",
+          "[instrument]")
+{
+    auto pack = buildVoicePack(test::scriptStructure(ObstacleShape::point));
+    Instrument instrument;
+    instrument.install(pack.get(), nullptr);
+    CHECK(instrument.activity().packsInstalled == 1);
+    instrument.setControls(InstrumentControls{});
+    instrument.settleControls();
+    instrument.clearActivity();
+    instrument.noteOn(55, 0.8);
+    play(instrument, 0.2);
+    const InstrumentActivity first = instrument.activity();
+    CHECK(first.notesStarted == 1);
+    CHECK(first.pulses == 0);
+    CHECK(first.retunes >= 1);
+    CHECK(first.newtonIterations > 100);  // the string lies on the tanpura's bridge
+    CHECK(first.mostIterations >= 1);
+    CHECK(first.mostIterations <= first.newtonIterations);
+
+    instrument.clearActivity();
+    instrument.noteOn(55, 0.8);  // again while it sounds: a pulse
+    InstrumentControls drone;
+    drone.drone = true;
+    drone.droneTempo = 300.0;
+    instrument.setControls(drone);
+    play(instrument, 1.0);
+    const InstrumentActivity second = instrument.activity();
+    CHECK(second.notesStarted >= 1);  // the drone's first string starts from rest
+    CHECK(second.pulses >= 1);
+    CHECK(second.dronePlucks >= 4);
+    CHECK(second.packsInstalled == 0);
+}

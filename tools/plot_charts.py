@@ -6,7 +6,8 @@ and jawari-polyphony.
 
 Writes accuracy.png (error against real-time factor, one curve per method, points labelled (M, R),
 with the floor), accuracy-presets.png (the named settings on every preset's scene, with its floors),
-stability.png (where each method fails), scaling.png (cost against M and against P) and
+block-load.png (jawari-soak's per-block load against the block size), stability.png (where each
+method fails), scaling.png (cost against M and against P) and
 polyphony.png (one core's load against the number of sounding strings).
 Needs Debian's python3-matplotlib (tools/charts.sh installs it).
 """
@@ -144,6 +145,46 @@ def presets_chart(directory):
     plt.close(fig)
 
 
+def block_load_chart(directory):
+    """jawari-soak's per-block load against the block size, one panel per host rate."""
+    path = os.path.join(directory, "block-load.csv")
+    if not os.path.exists(path):
+        return
+    names = ["preset", "quality", "rate", "block", "polyphony", "drone", "replay", "minutes", "mean", "p50", "p99",
+             "p999", "max", "wall_max"]
+    with open(path, newline="") as f:
+        data = [dict(zip(names, r)) for r in csv.reader(f) if r and r[0] != "preset"]
+    rates = sorted({float(r["rate"]) for r in data})
+    fig, axes = plt.subplots(1, len(rates), figsize=(5 * len(rates), 4.5), squeeze=False)
+    for ax, rate in zip(axes[0], rates):
+        rs = sorted((r for r in data if float(r["rate"]) == rate), key=lambda r: int(r["block"]))
+        blocks = [int(r["block"]) for r in rs]
+        for key, label, style in (("mean", "mean", "-"), ("p50", "p50", ":"), ("p99", "p99", "--"),
+                                  ("p999", "p99.9", "-."), ("max", "max", "-")):
+            ax.plot(blocks, [100.0 * float(r[key]) for r in rs], style, marker="o", ms=3, label=label,
+                    lw=2.0 if key == "max" else 1.2)
+        ax.set_ylim(0.0, 150.0)
+        for r in rs:  # a maximum off the scale (one block the machine took) is written at the top
+            if 100.0 * float(r["max"]) > 150.0:
+                ax.annotate(f'max {100.0 * float(r["max"]):.0f} %', (int(r["block"]), 148.0), fontsize=7, ha="center",
+                            va="top")
+        ax.axhline(100.0, color="red", lw=0.8)
+        ax.axhline(60.0, color="red", ls="--", lw=0.8)
+        ax.text(blocks[0], 60.0, " target p99.9 <= 60 %", fontsize=7, color="red", va="bottom")
+        ax.set_xscale("log", base=2)
+        ax.set_xticks(blocks)
+        ax.set_xticklabels([str(b) for b in blocks])
+        ax.set_xlabel("block (samples)")
+        ax.set_ylabel("CPU time per block, % of its budget")
+        ax.set_title(f"{rate / 1000:g} kHz")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("jawari-soak: twelve strings at standard on one core, per block")
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, "block-load.png"), dpi=110)
+    plt.close(fig)
+
+
 def stability_chart(directory):
     data = rows(os.path.join(directory, "stability.csv"))
     methods = ["energy-conserving", "quadratised", "penalty", "quadratic-spline"]
@@ -231,7 +272,8 @@ if __name__ == "__main__":
     directory = sys.argv[1] if len(sys.argv) > 1 else "Resources/Charts"
     accuracy_chart(directory)
     presets_chart(directory)
+    block_load_chart(directory)
     stability_chart(directory)
     scaling_chart(directory)
     polyphony_chart(directory)
-    print(f"wrote accuracy.png, accuracy-presets.png, stability.png, scaling.png, polyphony.png in {directory}")
+    print(f"wrote accuracy.png, accuracy-presets.png, block-load.png, stability.png, scaling.png, polyphony.png in {directory}")

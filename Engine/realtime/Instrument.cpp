@@ -198,6 +198,7 @@ void Instrument::install(VoicePack* pack, VoicePack* previous)
     if (carry)
         pack->takeMotionFrom(*previous);
     pack_ = pack;
+    ++activity_.packsInstalled;
     fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * pack->structure.hostRateHz)));
     dampingDirty_ = true;
     for (int i = 0; i < kSlots; ++i)
@@ -224,6 +225,7 @@ void Instrument::retune(int slot)
 {
     if (pack_ == nullptr)
         return;
+    ++activity_.retunes;
     auto& voice = *pack_->voices[size_t(slot)];
     const int M = pack_->modes;
     double* sigma = pack_->sigma.data() + size_t(slot) * M;
@@ -336,9 +338,15 @@ void Instrument::start(int slot, int note, double pitch, double velocity, int ch
     retune(slot);
     voice.cancelRelease();
     if (fromRest)
+    {
         voice.pluckFromShape(kPluckMetresPerVelocity * velocity);
+        ++activity_.notesStarted;
+    }
     else
+    {
         voice.pluckWithPulse(velocity);
+        ++activity_.pulses;
+    }
     s.held = true;
     s.sustained = false;
     s.sounding = true;
@@ -482,6 +490,7 @@ void Instrument::dronePluck(int string)
     const double velocity = std::clamp(current_.droneStrength * (1.0 + 0.25 * h * nextRandom()), 0.05, 1.0);
     start(slot, static_cast<int>(std::lround(pitch)), pitch, velocity);
     ++dronePlucks_;
+    ++activity_.dronePlucks;
 }
 
 void Instrument::scheduleDrone(int samples)
@@ -675,7 +684,10 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
 {
     auto& s = slots_[size_t(slot)];
     auto& voice = *pack_->voices[size_t(slot)];
-    maxIterations_ = std::max(maxIterations_, voice.takeMaxIterations());
+    const int most = voice.takeMaxIterations();
+    maxIterations_ = std::max(maxIterations_, most);
+    activity_.mostIterations = std::max(activity_.mostIterations, most);
+    activity_.newtonIterations += voice.takeIterationCount();
     chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
     const double pan = slot < kMidiVoices ? keyboardPan(slotPitchNow(slot)) : s.pan;

@@ -184,6 +184,19 @@ struct InstrumentSnapshot
     uint64_t sequence = 0;
 };
 
+// What the instrument did since clearActivity(): what can make a block slow (jawari-soak attributes
+// its slowest blocks with it). RT: plain counters.
+struct InstrumentActivity
+{
+    int notesStarted = 0;   // strings started from rest (a held shape)
+    int pulses = 0;         // strings re-plucked while sounding (a force pulse)
+    int dronePlucks = 0;
+    int retunes = 0;        // strings retuned (a note's start, a bend, new damping)
+    int packsInstalled = 0;
+    long newtonIterations = 0;  // contact solve iterations, all strings
+    int mostIterations = 0;     // the most in one step
+};
+
 class Instrument
 {
 public:
@@ -223,6 +236,8 @@ public:
     long blowUps() const;
     int maxIterations() const { return maxIterations_; }  // the most of any step since construction
     long dronePlucks() const { return dronePlucks_; }
+    const InstrumentActivity& activity() const { return activity_; }
+    void clearActivity() { activity_ = {}; }  // RT
     // The pitch ratio, pitch and note a slot plays (tests).
     double slotRatio(int slot) const { return slots_[size_t(slot)].ratio; }
     double slotPitch(int slot) const { return slots_[size_t(slot)].pitch; }
@@ -292,6 +307,7 @@ private:
     double droneCountdown_ = 0.0;  // host samples to the next drone pluck
     int droneNext_ = 0;
     long dronePlucks_ = 0;
+    InstrumentActivity activity_;
     uint32_t random_ = 0x2545F491u;
     double nextRandom();  // uniform -1..1
     int maxIterations_ = 0;

@@ -1,14 +1,18 @@
 // jawari-soak: the tanpura drone rendered offline through the real AudioProcessor for a long time
-// (an hour by default), then a report: non-finite samples, peak level, the worst block's processing
-// time against its real-time budget, Newton iterations, recoveries. Measures and reports; asserts
-// nothing (exit 1 only if a non-finite sample or a sample beyond full scale came out).
+// (an hour by default), then a report: non-finite samples, peak level, each block's processing time
+// against its real-time budget (mean, percentiles, the worst) and the slowest blocks with what the
+// instrument did in them, Newton iterations, recoveries. Measures and reports; asserts nothing (exit
+// 1 only if a non-finite sample or a sample beyond full scale came out).
 //
 //   jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] [--block 512]
 //               [--polyphony N]   (N held MIDI notes on top of the drone; default 0)
 //               [--drone 0|1]     (default 1; 0 with --polyphony 8 measures eight MIDI strings)
 //               [--preset NAME]   (a factory preset, by its name or the part before the parenthesis,
 //                                  in any case; default "Tanpura drone")
+//               [--replay S]      (every S seconds one held note is plucked again, in turn; default 0: held)
+//               [--csv FILE]      (appends one line of the figures to FILE)
 
+#include "BlockLoad.h"
 #include "offline/CpuClock.h"
 #include "PluginProcessor.h"
 #include "Presets.h"
@@ -26,10 +30,11 @@ int main(int argc, char* argv[])
 {
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
+    double replay = 0.0;
     int block = 512, quality = 1, polyphony = 0, drone = 1;
-    std::string preset = "Tanpura drone";
+    std::string preset = "Tanpura drone", csv;
     const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
-                        "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME]\n";
+                        "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME] [--replay S] [--csv FILE]\n";
     for (int i = 1; i < argc; i += 2)
     {
         const std::string key = argv[i];
@@ -56,6 +61,10 @@ int main(int argc, char* argv[])
                 polyphony = std::clamp(std::stoi(value), 0, 8);
             else if (key == "--preset")
                 preset = value;
+            else if (key == "--csv")
+                csv = value;
+            else if (key == "--replay" && std::stod(value) >= 0.0)
+                replay = std::stod(value);
             else if (key == "--drone")
                 drone = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--quality" && (value == "draft" || value == "standard" || value == "high"))
@@ -98,7 +107,10 @@ int main(int argc, char* argv[])
     const long blocks = std::lround(minutes * 60.0 * rate / block);
     const double budget = block / rate;
     double worst = 0.0, total = 0.0, peak = 0.0;
-    double worstCpu = 0.0;  // the worst block in the thread's CPU time: without the machine's preemptions
+    // Per block, in the thread's CPU time (without the machine's preemptions) and in wall time.
+    jawari::BlockLoad cpuLoad, wallLoad;
+    long iterations = 0;  // all blocks': a slow block's own count against the mean says whether it had more work
+    const long replayBlocks = replay > 0.0 ? std::max(1L, std::lround(replay * rate / block)) : 0;
     long nonFinite = 0, beyond = 0;
     for (long b = 0; b < blocks; ++b)
     {
@@ -106,12 +118,23 @@ int main(int argc, char* argv[])
         if (b == 0)
             for (int n = 0; n < polyphony; ++n)
                 midi.addEvent(juce::MidiMessage::noteOn(1, 48 + 2 * n, juce::uint8(100)), 0);
+        else if (replayBlocks > 0 && polyphony > 0 && b % replayBlocks == 0)
+        {
+            // A player plucking the held notes again, one at a time.
+            const int note = 48 + 2 * int((b / replayBlocks) % polyphony);
+            midi.addEvent(juce::MidiMessage::noteOff(1, note), 0);
+            midi.addEvent(juce::MidiMessage::noteOn(1, note, juce::uint8(100)), 0);
+        }
         buffer.clear();
+        p.instrument().clearActivity();
         const auto start = std::chrono::steady_clock::now();
         const double startCpu = jawari::threadCpuSeconds();
         p.processBlock(buffer, midi);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        worstCpu = std::max(worstCpu, jawari::threadCpuSeconds() - startCpu);
+        const double cpu = jawari::threadCpuSeconds() - startCpu;
+        cpuLoad.add(b, cpu / budget, p.instrument().activity());
+        iterations += p.instrument().activity().newtonIterations;
+        wallLoad.add(b, seconds / budget, p.instrument().activity());
         worst = std::max(worst, seconds);
         total += seconds;
         for (int c = 0; c < 2; ++c)
@@ -141,11 +164,44 @@ int main(int argc, char* argv[])
                 polyphony);
     std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
                 p.instrument().dronePlucks(), nonFinite, beyond, peak, 20.0 * std::log10(std::max(peak, 1e-12)));
+    const double mean = total / (blocks * budget);
     std::printf("  worst block %.3f ms = %.1f %% of its %.3f ms budget (in CPU time %.1f %%); mean %.1f %% (%.1fx real "
                 "time)\n",
-                worst * 1e3, 100.0 * worst / budget, budget * 1e3, 100.0 * worstCpu / budget,
-                100.0 * total / (blocks * budget), blocks * budget / total);
+                worst * 1e3, 100.0 * worst / budget, budget * 1e3, 100.0 * cpuLoad.most(), 100.0 * mean,
+                blocks * budget / total);
+    std::printf("  per block, CPU time: p50 %.1f %%, p99 %.1f %%, p99.9 %.1f %%, max %.1f %%; wall time: p50 %.1f %%, "
+                "p99 %.1f %%, p99.9 %.1f %%, max %.1f %%\n",
+                100.0 * cpuLoad.percentile(0.5), 100.0 * cpuLoad.percentile(0.99), 100.0 * cpuLoad.percentile(0.999),
+                100.0 * cpuLoad.most(), 100.0 * wallLoad.percentile(0.5), 100.0 * wallLoad.percentile(0.99),
+                100.0 * wallLoad.percentile(0.999), 100.0 * wallLoad.most());
+    // A slow block with no event and no more iterations than the mean block did no more work than
+    // any other: the machine took the time (a preemption, another process), not the engine.
+    const double meanIterations = double(iterations) / double(blocks);
+    std::printf("  the slowest blocks (CPU time; Newton iterations against the mean block's %.0f):\n", meanIterations);
+    for (const auto& slow : cpuLoad.slowest())
+        std::printf("    %.1f %% at %.3f s: %s; %.2fx the mean block's iterations\n", 100.0 * slow.share,
+                    slow.index * budget, jawari::BlockLoad::describe(slow.activity).c_str(),
+                    meanIterations > 0.0 ? double(slow.activity.newtonIterations) / meanIterations : 0.0);
     std::printf("  most Newton iterations in a step %d, recoveries %ld\n", p.instrument().maxIterations(),
                 p.instrument().blowUps());
+    if (!csv.empty())
+    {
+        // preset, quality, rate, block, polyphony, drone, replay, minutes, mean, CPU p50, p99, p99.9, max, wall max
+        if (FILE* f = std::fopen(csv.c_str(), "a"))
+        {
+            std::fseek(f, 0, SEEK_END);
+            if (std::ftell(f) == 0)
+                std::fputs("preset,quality,rate,block,polyphony,drone,replay,minutes,mean,p50,p99,p999,max,wall_max\n", f);
+            std::fprintf(f, "%s,%d,%.0f,%d,%d,%d,%g,%g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", preset.c_str(), quality, rate,
+                         block, polyphony, drone, replay, minutes, mean, cpuLoad.percentile(0.5),
+                         cpuLoad.percentile(0.99), cpuLoad.percentile(0.999), cpuLoad.most(), wallLoad.most());
+            std::fclose(f);
+        }
+        else
+        {
+            std::fprintf(stderr, "jawari-soak: cannot append to %s\n", csv.c_str());
+            return 2;
+        }
+    }
     return nonFinite == 0 && beyond == 0 ? 0 : 1;
 }
