@@ -1,0 +1,166 @@
+// A VoicePack: everything built OFF the audio thread for one InstrumentStructure (the string, its
+// obstacles on their contact points, the quality, twelve voices, the drawing tables, the decimators).
+
+#include "realtime/Instrument.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace jawari
+{
+namespace
+{
+double clampFraction(double x)
+{
+    return std::clamp(x, 0.005, 0.995);
+}
+
+// The right channel's pickup: kSecondPickupOffset further from the nearer end than the first.
+double secondPickupFraction(double pickup)
+{
+    const double x = clampFraction(pickup);
+    return std::clamp(x > 0.5 ? x - kSecondPickupOffset : x + kSecondPickupOffset, 0.02, 0.98);
+}
+}  // namespace
+
+StringParameters instrumentString(const InstrumentStructure& s)
+{
+    const auto& type = kStringTypes[std::clamp(s.stringType, 0, kStringTypeCount - 1)];
+    StringParameters p;
+    p.lengthMetres = type.lengthMetres;
+    p.linearDensity = type.linearDensity;
+    p.diameterMetres = type.diameterMetres;
+    const double c = 2.0 * type.lengthMetres * type.fundamentalHz;
+    p.tensionNewtons = type.linearDensity * c * c;
+    p.inharmonicity = std::max(0.0, s.inharmonicity);
+    return p;
+}
+
+std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const ContactLaw& law, double height)
+{
+    const double L = instrumentString(s).lengthMetres;
+    std::vector<Obstacle> obstacles;
+    Obstacle o;
+    o.law = law;
+    o.height = height;
+    o.width = std::max(s.obstacleWidth, 1e-5);
+    switch (s.shape)
+    {
+        case ObstacleShape::point:
+            o.type = ObstacleType::point;
+            o.position = clampFraction(s.obstaclePosition) * L;
+            obstacles.push_back(o);
+            break;
+        case ObstacleShape::parabola:
+            o.type = ObstacleType::parabola;
+            o.position = clampFraction(s.obstaclePosition) * L;
+            o.curvature = std::max(0.0, s.curvature);
+            obstacles.push_back(o);
+            break;
+        case ObstacleShape::frets:
+            o.type = ObstacleType::point;
+            for (int k = 1; k <= 5; ++k)
+            {
+                o.position = L * std::pow(2.0, -k / 12.0);
+                obstacles.push_back(o);
+            }
+            break;
+    }
+    return obstacles;
+}
+
+VoiceQuality instrumentQuality(const InstrumentStructure& s)
+{
+    const auto settings =
+        qualitySettings(s.shape == ObstacleShape::parabola ? ObstacleKind::bridge : ObstacleKind::points);
+    const int q = std::clamp(s.quality, 0, static_cast<int>(settings.size()) - 1);
+    return resolveQuality(settings[size_t(q)], instrumentString(s), s.hostRateHz);
+}
+
+std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
+{
+    auto pack = std::make_unique<VoicePack>();
+    pack->structure = structure;
+    pack->string = instrumentString(structure);
+    const auto quality = instrumentQuality(structure);
+    VoiceConfig config;
+    config.string = pack->string;
+    config.obstacles = instrumentObstacles(structure, ContactLaw{}, 0.0);
+    const double L = pack->string.lengthMetres;
+    config.excitationPosition = clampFraction(structure.pluckPosition) * L;
+    config.pickupPosition = clampFraction(structure.pickupPosition) * L;
+    config.secondPickupPosition = secondPickupFraction(structure.pickupPosition) * L;
+    config.quantity = PickupQuantity::displacement;
+    config.modes = quality.modes;
+    config.oversampling = quality.oversampling;
+    config.hostRateHz = structure.hostRateHz;
+    config.releaseSeconds = std::max(structure.releaseSeconds, 0.01);
+    // The quadratic spline solves decoupled points in closed form; the coupled points of a bridge
+    // or of the frets take the energy-conserving Newton, the scheme it approximates.
+    config.method = structure.method == ContactMethod::quadraticSpline && structure.shape != ObstacleShape::point
+                        ? ContactMethod::energyConserving
+                        : structure.method;
+    config.keepEveryMode = true;
+    const ModalSolverConfig solverConfig = voiceSolverConfig(config);
+    for (int i = 0; i < kSlots; ++i)
+        pack->voices.push_back(std::make_unique<Voice>(config, solverConfig));
+    pack->modes = quality.modes;
+    pack->baseFundamentalHz = solverConfig.modes.frequencyHz.front();
+    pack->sigma.assign(size_t(kSlots) * quality.modes, 0.0);
+    pack->drawShapes.resize(size_t(kDrawPoints) * quality.modes);
+    pack->drawObstacle.assign(kDrawPoints, std::numeric_limits<double>::quiet_NaN());
+    for (int k = 0; k < kDrawPoints; ++k)
+    {
+        const double x = L * k / (kDrawPoints - 1);
+        for (int p = 1; p <= quality.modes; ++p)
+            pack->drawShapes[size_t(k) * quality.modes + p - 1] = modeShape(L, p, x);
+    }
+    for (const auto& o : config.obstacles)
+    {
+        if (o.isDistributed())
+        {
+            for (int k = 0; k < kDrawPoints; ++k)
+            {
+                const double x = L * k / (kDrawPoints - 1);
+                if (x >= o.supportBegin() && x <= o.supportEnd())
+                    pack->drawObstacle[size_t(k)] = o.heightAt(x);
+            }
+        }
+        else
+        {
+            const int k =
+                std::clamp(static_cast<int>(std::lround(o.position / L * (kDrawPoints - 1))), 0, kDrawPoints - 1);
+            pack->drawObstacle[size_t(k)] = o.height;
+        }
+    }
+    pack->latencySamples = pack->voices.front()->latencySamples();
+    pack->oversampling = quality.oversampling;
+    pack->decimators.assign(2, Decimator(quality.oversampling, structure.hostRateHz));
+    const size_t chunkSteps = size_t(Instrument::kChunk) * size_t(quality.oversampling);
+    pack->mixLeft.assign(chunkSteps, 0.0);
+    pack->mixRight.assign(chunkSteps, 0.0);
+    pack->stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    pack->secondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    auto pickupSine = [](double fraction) { return std::max(std::sin(std::numbers::pi * fraction), 0.02); };
+    const double sine = pickupSine(clampFraction(structure.pickupPosition));
+    pack->outputScale = 120.0 / sine;
+    // The second pickup at the first's level by the same law (it sits further from the end, where
+    // the string moves more).
+    pack->secondPickupGain = sine / pickupSine(secondPickupFraction(structure.pickupPosition));
+    return pack;
+}
+
+void VoicePack::takeMotionFrom(VoicePack& other)
+{
+    if (other.modes != modes || other.structure.hostRateHz != structure.hostRateHz)
+        return;
+    for (size_t i = 0; i < voices.size() && i < other.voices.size(); ++i)
+        voices[i]->takeMotionFrom(*other.voices[i]);
+    if (other.oversampling == oversampling)
+        for (size_t c = 0; c < decimators.size(); ++c)
+            decimators[c] = other.decimators[c];  // equal lengths: no allocation
+}
+
+}  // namespace jawari
