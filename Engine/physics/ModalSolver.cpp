@@ -37,6 +37,7 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     liveRows_.resize(P_);
     pressing_.reserve(P_);
     reach_.assign(P_, std::numeric_limits<double>::infinity());
+    kappa_.assign(M_, 0.0);
     leaveOutOfReach_ = config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving && P_ >= 2
                        && !system_.isDiagonal();
     computeReach();
@@ -541,12 +542,16 @@ void ModalSolver::computeReach()
             return std::numeric_limits<double>::infinity();
         return 1.0 / std::sqrt(c.potentialWeight) + 0.5 / std::sqrt(a);
     };
+    // Once per mode (two square roots and two divisions each), not once per point and mode: a note's
+    // start retunes its string, and this loop was most of what that cost.
+    for (int p = 0; p < M_; ++p)
+        kappa_[size_t(p)] = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
     for (int j = 0; j < P_; ++j)
     {
         double sum = 0.0;
         for (int p = 0; p < M_; ++p)
         {
-            const double k = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
+            const double k = kappa_[size_t(p)];
             const double phi = shapes_[size_t(j) * M_ + p];
             sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
         }

@@ -250,6 +250,7 @@ private:
     static constexpr int kReachCheckSteps = 512;
     bool leaveOutOfReach_ = false;
     std::vector<double> reach_;   // per point, m per sqrt(J)
+    std::vector<double> kappa_;   // per mode, computeReach's kappa_p
     std::vector<char> live_;      // per point
     std::vector<int> liveRows_;   // the live points, ascending (the first liveCount_ entries)
     std::vector<int> pressing_;   // the points with a force this step
