@@ -54,6 +54,15 @@ def pareto(points):
     return sorted(front)
 
 
+def save(fig, directory, name, title=None):
+    """Writes the figure to CHART_DIR/name (110 dpi) and closes it."""
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(directory, name), dpi=110)
+    plt.close(fig)
+
+
 def accuracy_chart(directory):
     data = rows(os.path.join(directory, "accuracy.csv"))
     scenes = ["paper-centre", "paper-tanpura"]
@@ -108,9 +117,7 @@ def accuracy_chart(directory):
             ax.set_title(f"{scene}: error against cost, points (M, R)")
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7, loc="upper right")
-    fig.tight_layout()
-    fig.savefig(os.path.join(directory, "accuracy.png"), dpi=110)
-    plt.close(fig)
+    save(fig, directory, "accuracy.png")
 
 
 def presets_chart(directory):
@@ -139,10 +146,8 @@ def presets_chart(directory):
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="lower left")
-    fig.suptitle("Each preset's scene: the named settings against the reference, and the reference against itself")
-    fig.tight_layout()
-    fig.savefig(os.path.join(directory, "accuracy-presets.png"), dpi=110)
-    plt.close(fig)
+    save(fig, directory, "accuracy-presets.png",
+         "Each preset's scene: the named settings against the reference, and the reference against itself")
 
 
 def block_load_chart(directory):
@@ -179,10 +184,7 @@ def block_load_chart(directory):
         ax.set_title(f"{rate / 1000:g} kHz")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle("jawari-soak: twelve strings at standard on one core, per block")
-    fig.tight_layout()
-    fig.savefig(os.path.join(directory, "block-load.png"), dpi=110)
-    plt.close(fig)
+    save(fig, directory, "block-load.png", "jawari-soak: twelve strings at standard on one core, per block")
 
 
 def stability_chart(directory):
@@ -231,10 +233,7 @@ def scaling_chart(directory):
         ax.set_yscale("log")
         ax.set_ylabel("real-time factor")
         ax.grid(True, which="both", alpha=0.3)
-    fig.suptitle("Cost of the default voice at 384 kHz (paper string, tanpura obstacle)")
-    fig.tight_layout()
-    fig.savefig(os.path.join(directory, "scaling.png"), dpi=110)
-    plt.close(fig)
+    save(fig, directory, "scaling.png", "Cost of the default voice at 384 kHz (paper string, tanpura obstacle)")
 
 
 def polyphony_chart(directory):
@@ -262,10 +261,8 @@ def polyphony_chart(directory):
         ax.set_xticks([1, 2, 4, 8, 12])
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle("The instrument on one core: tanpura bridge, 48 kHz, 512-sample blocks")
-    fig.tight_layout()
-    fig.savefig(os.path.join(directory, "polyphony.png"), dpi=110)
-    plt.close(fig)
+    save(fig, directory, "polyphony.png",
+         "The instrument on one core: tanpura bridge, 48 kHz, 512-sample blocks")
 
 
 if __name__ == "__main__":
