@@ -64,8 +64,20 @@ double ResidualCompliance::energy() const
 {
     if (!active())
         return 0.0;
-    const Eigen::Map<const Eigen::VectorXd> d(delta_.data(), P_), dPrev(deltaPrev_.data(), P_);
-    return 0.25 * (d.dot(inverse_ * d) + dPrev.dot(inverse_ * dPrev));
+    // d^T C^-1 d by loops: Eigen's d.dot(C^-1 d) makes its product in a heap temporary, and the
+    // solver measures this energy on the audio thread (its points out of reach).
+    auto quadratic = [&](const std::vector<double>& d) {
+        double sum = 0.0;
+        for (int j = 0; j < P_; ++j)
+        {
+            double row = 0.0;
+            for (int i = 0; i < P_; ++i)
+                row += inverse_(j, i) * d[size_t(i)];
+            sum += d[size_t(j)] * row;
+        }
+        return sum;
+    };
+    return 0.25 * (quadratic(delta_) + quadratic(deltaPrev_));
 }
 
 }  // namespace jawari

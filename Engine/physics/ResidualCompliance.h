@@ -33,7 +33,7 @@ public:
     void reset();
     double delta(int j) const { return delta_[size_t(j)]; }          // n
     double deltaPrev(int j) const { return deltaPrev_[size_t(j)]; }  // n-1
-    // The spring's energy between n-1 and n: (delta^T C^{-1} delta at n and at n-1) / 4. CT/OFF.
+    // The spring's energy between n-1 and n: (delta^T C^{-1} delta at n and at n-1) / 4. RT (no allocation).
     double energy() const;
 
 private:
