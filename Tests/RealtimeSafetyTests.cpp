@@ -149,11 +149,19 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
 TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
 {
     // Every obstacle shape (one point, a parabolic bridge, five frets) and every method.
-    // Each voice alone and the string bank.
+    // Each voice alone, the string bank, and each voice alone with a second core (whose clones the
+    // audio thread copies every chunk).
+    struct Stepping
+    {
+        StringScheduling scheduling;
+        bool secondCore;
+    };
     for (const auto shape : {ObstacleShape::point, ObstacleShape::parabola, ObstacleShape::frets})
         for (const auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty,
                                   ContactMethod::quadraticSpline})
-            for (const auto scheduling : {StringScheduling::lone, StringScheduling::bank})
+            for (const auto [scheduling, secondCore] : {Stepping{StringScheduling::lone, false},
+                                                        Stepping{StringScheduling::bank, false},
+                                                        Stepping{StringScheduling::lone, true}})
         {
             InstrumentStructure s;
             s.quality = 0;
@@ -164,8 +172,12 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
             auto first = buildVoicePack(s);
             s.obstaclePosition += 0.01;
             auto second = buildVoicePack(s);  // built off the audio thread, as the plugin's builder does
+            StringWorker worker;  // after the packs: stopped before they are freed
+            if (secondCore)
+                worker.start();
             Instrument instrument;
             instrument.setScheduling(scheduling);
+            instrument.setWorker(secondCore ? &worker : nullptr);
             InstrumentControls c;
             instrument.setControls(c);
             instrument.install(first.get(), nullptr);
@@ -203,7 +215,8 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
                 }
                 counted = allocations;
             }
-            INFO("shape " << int(shape) << " method " << int(method) << " scheduling " << int(scheduling));
+            INFO("shape " << int(shape) << " method " << int(method) << " scheduling " << int(scheduling)
+                          << " second core " << secondCore);
             CHECK(counted == 0);
             CHECK(instrument.snapshots().read(snapshot));
             CHECK(snapshot.sequence > 0);

@@ -7,8 +7,10 @@
 
 #include "physics/Obstacle.h"
 
+#include <cstddef>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace jawari
@@ -29,5 +31,36 @@ public:
 // Builds the transform for a solver's contact points, M modes and string length. OFF.
 using GridTransformFactory = std::function<std::unique_ptr<GridTransform>(const std::vector<ContactPoint>& contacts,
                                                                           double lengthMetres, int modes)>;
+
+// A solver's transform, owned. Solvers are copied only without one (the voices' clones, which step
+// on another thread: Instrument); the reference's solvers, on the transform, are never copied, and
+// copying one is refused.
+class OwnedGridTransform
+{
+public:
+    OwnedGridTransform() = default;
+    OwnedGridTransform(std::unique_ptr<GridTransform> transform) : transform_(std::move(transform)) {}
+    OwnedGridTransform(const OwnedGridTransform&) = delete;
+    OwnedGridTransform& operator=(const OwnedGridTransform& other)
+    {
+        refuseCopyOf(other);
+        refuseCopyOf(*this);
+        return *this;
+    }
+    OwnedGridTransform(OwnedGridTransform&&) = default;
+    OwnedGridTransform& operator=(OwnedGridTransform&&) = default;
+
+    GridTransform* operator->() const { return transform_.get(); }
+    explicit operator bool() const { return transform_ != nullptr; }
+    bool operator==(std::nullptr_t) const { return transform_ == nullptr; }
+
+private:
+    static void refuseCopyOf(const OwnedGridTransform& t)
+    {
+        if (t.transform_)
+            throw std::logic_error("a solver on the grid transform is not copied");
+    }
+    std::unique_ptr<GridTransform> transform_;
+};
 
 }  // namespace jawari

@@ -67,7 +67,11 @@ class ModalSolver
 public:
     explicit ModalSolver(const ModalSolverConfig& config);  // OFF: tables, Phi, the transform
     ModalSolver(const ModalSolver&) = delete;
-    ModalSolver& operator=(const ModalSolver&) = delete;
+    // RT: this solver becomes the other's exact copy, its state and every table (solvers on the grid
+    // transform excepted: OwnedGridTransform). Only into a solver built from the same configuration,
+    // whose arrays have the same sizes and reserved capacities: then nothing is allocated (the
+    // instrument's clones for a second core: StringWorker).
+    ModalSolver& operator=(const ModalSolver&) = default;
 
     // OFF/CT: modal displacements at t = 0 with zero velocity; q^{-1} is set from each mode's
     // exact free motion, so without contact the run is the analytic solution (modes damped by
@@ -233,7 +237,7 @@ private:
     std::vector<ContactSpline> splines_;  // per point, the quadratic-spline method's potential
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_, penetration_, pointForce_;
     std::vector<ContactPoint> contacts_;
-    std::unique_ptr<GridTransform> transform_;
+    OwnedGridTransform transform_;
     double pickup_ = 0.0;
     double pickupTilde_ = 0.0;
     double pickupB_ = 0.0, pickupTildeB_ = 0.0;  // the second pickup's

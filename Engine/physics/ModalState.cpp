@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 
 namespace jawari
 {
@@ -36,10 +37,7 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
         stride_ += 8;
     const int arrays = 10 + contactCount_;
     storage_.assign(static_cast<size_t>(stride_) * arrays + 8, 0.0);
-    double* base = storage_.data();
-    while (reinterpret_cast<std::uintptr_t>(base) % 64 != 0)
-        ++base;
-    double* next = base;
+    double* next = alignedBase();
     for (double** array : {&aNormal_, &eNormal_, &aReleased_, &eReleased_, &h_, &q_, &qPrev_, &settled_, &phiE_, &h2_})
     {
         *array = next;
@@ -62,6 +60,78 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
             phi_[size_t(j) * stride_ + i] = contactShapes[size_t(j) * M_ + active_[i]];
     layout_ = Layout::single;
     c1_ = c2_ = 0.0;
+}
+
+ModalState& ModalState::operator=(const ModalState& other)
+{
+    if (this == &other)
+        return *this;
+    M_ = other.M_;
+    Ma_ = other.Ma_;
+    Mpad_ = other.Mpad_;
+    stride_ = other.stride_;
+    contactCount_ = other.contactCount_;
+    pairable_ = other.pairable_;
+    active_ = other.active_;
+    indexOfMode_ = other.indexOfMode_;
+    activeNormal_ = other.activeNormal_;
+    activeReleased_ = other.activeReleased_;
+    hasSecondPickup_ = other.hasSecondPickup_;
+    layout_ = other.layout_;
+    c1_ = other.c1_;
+    c2_ = other.c2_;
+    std::copy(std::begin(other.sumAPhiSquared_), std::end(other.sumAPhiSquared_), sumAPhiSquared_);
+    std::copy(std::begin(other.sumAPhiH_), std::end(other.sumAPhiH_), sumAPhiH_);
+    std::copy(std::begin(other.sumAPhiH2_), std::end(other.sumAPhiH2_), sumAPhiH2_);
+    released_ = other.released_;
+    copyArraysFrom(other);
+    return *this;
+}
+
+namespace
+{
+// The first 64-byte-aligned double at or after p.
+template <typename Double>
+Double* aligned64(Double* p)
+{
+    while (reinterpret_cast<std::uintptr_t>(p) % 64 != 0)
+        ++p;
+    return p;
+}
+}  // namespace
+
+double* ModalState::alignedBase()
+{
+    return aligned64(storage_.data());
+}
+
+// The two states' storage may sit differently against 64 bytes, so the arrays are copied from
+// aligned base to aligned base, and each pointer keeps its offset from the base (q_ and qPrev_
+// trade places as the steps go, a_ and e_ point at either damping set).
+void ModalState::copyArraysFrom(const ModalState& other)
+{
+    if (storage_.size() != other.storage_.size())
+        storage_.assign(other.storage_.size(), 0.0);
+    if (other.storage_.empty())
+        return;
+    const double* from = aligned64(other.storage_.data());
+    double* to = alignedBase();
+    const size_t used = other.storage_.size() - 8;
+    std::copy(from, from + used, to);
+    auto rebase = [&](const double* p) { return p == nullptr ? nullptr : to + (p - from); };
+    a_ = rebase(other.a_);
+    e_ = rebase(other.e_);
+    aNormal_ = rebase(other.aNormal_);
+    eNormal_ = rebase(other.eNormal_);
+    aReleased_ = rebase(other.aReleased_);
+    eReleased_ = rebase(other.eReleased_);
+    h_ = rebase(other.h_);
+    h2_ = rebase(other.h2_);
+    phiE_ = rebase(other.phiE_);
+    phi_ = rebase(other.phi_);
+    q_ = rebase(other.q_);
+    qPrev_ = rebase(other.qPrev_);
+    settled_ = rebase(other.settled_);
 }
 
 void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,

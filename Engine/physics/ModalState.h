@@ -27,6 +27,12 @@ namespace jawari
 class ModalState
 {
 public:
+    ModalState() = default;
+    ModalState(const ModalState&) = delete;
+    // RT: the other's exact copy in arrays of its own (the pointers rebased into them). Into a state
+    // of the same modes and contact rows, nothing is allocated.
+    ModalState& operator=(const ModalState& other);
+
     enum class Layout
     {
         single,
@@ -115,6 +121,9 @@ public:
     void restartSingle();  // RT: the single layout, corrections cleared (the caller writes q, qPrev)
 
 private:
+    double* alignedBase();  // storage_'s first 64-byte-aligned double: where the arrays start
+    void copyArraysFrom(const ModalState& other);  // the arrays' values, every pointer rebased
+
     int M_ = 0;     // modes of the model
     int Ma_ = 0;    // modes stepped (active)
     int Mpad_ = 0;  // Ma_ rounded up to the kernels' block

@@ -241,26 +241,21 @@ void Instrument::mixChunk(float* left, float* right, int count, double gainStart
     const size_t internal = size_t(count) * size_t(pack_->oversampling);
     std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + long(internal), 0.0);
     std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + long(internal), 0.0);
-    std::array<Voice*, kSlots> voices{};
-    std::array<double*, kSlots> blocks{}, seconds{};
-    std::array<int, kSlots> sounding{};
-    int n = 0;
+    Sounding sounding;
     const size_t chunkSteps = size_t(kChunk) * size_t(pack_->oversampling);
     for (int i = 0; i < kSlots; ++i)
         if (slots_[size_t(i)].sounding || slots_[size_t(i)].fade >= 0)
         {
-            voices[size_t(n)] = pack_->voices[size_t(i)].get();
-            blocks[size_t(n)] = pack_->stringBlocks.data() + size_t(i) * chunkSteps;
-            seconds[size_t(n)] = pack_->secondBlocks.data() + size_t(i) * chunkSteps;
-            sounding[size_t(n++)] = i;
+            const int k = sounding.count++;
+            sounding.voices[size_t(k)] = pack_->voices[size_t(i)].get();
+            sounding.blocks[size_t(k)] = pack_->stringBlocks.data() + size_t(i) * chunkSteps;
+            sounding.seconds[size_t(k)] = pack_->secondBlocks.data() + size_t(i) * chunkSteps;
+            sounding.slots[size_t(k)] = i;
         }
-    if (scheduling_ == StringScheduling::bank)
-        bank_.process(voices.data(), blocks.data(), n, count, seconds.data());
-    else
-        for (int k = 0; k < n; ++k)
-            voices[size_t(k)]->processInternal(blocks[size_t(k)], count, seconds[size_t(k)]);
-    for (int k = 0; k < n; ++k)
-        mixString(sounding[size_t(k)], blocks[size_t(k)], seconds[size_t(k)], count, gainStart);
+    stepStrings(sounding, count);
+    for (int k = 0; k < sounding.count; ++k)
+        mixString(sounding.slots[size_t(k)], sounding.blocks[size_t(k)], sounding.seconds[size_t(k)], count,
+                  gainStart);
     const int os = pack_->oversampling;
     for (int m = 0; m < count; ++m)
     {

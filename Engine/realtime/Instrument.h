@@ -17,6 +17,7 @@
 #include "realtime/Quality.h"
 #include "realtime/SnapshotBuffer.h"
 #include "realtime/StringBank.h"
+#include "realtime/StringWorker.h"
 #include "realtime/Tuning.h"
 #include "realtime/Voice.h"
 
@@ -162,6 +163,10 @@ struct VoicePack
     std::vector<double> mixLeft, mixRight;
     std::vector<double> stringBlocks;   // kSlots chunks at the internal rate: each string's, before the mix
     std::vector<double> secondBlocks;   // the same from each string's second pickup (the right channel)
+    // A second core's share (StringWorker): each slot's clone of its voice, and the blocks the
+    // worker steps it into.
+    std::vector<std::unique_ptr<Voice>> clones;
+    std::vector<double> workerBlocks, workerSecondBlocks;
     int oversampling = 1;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
@@ -195,6 +200,8 @@ struct InstrumentActivity
     int packsInstalled = 0;
     long newtonIterations = 0;  // contact solve iterations, all strings
     int mostIterations = 0;     // the most in one step
+    long workerStrings = 0;     // string chunks the second core stepped
+    long workerRevoked = 0;     // string chunks taken back from the second core, late
 };
 
 class Instrument
@@ -226,6 +233,10 @@ public:
     // there is nothing to glide from.
     void settleControls();
     void setScheduling(StringScheduling scheduling) { scheduling_ = scheduling; }  // RT
+    // RT: a second core to share the strings with (lone scheduling; StringWorker.h), or null for
+    // none. The output is the same bit for bit. The worker must outlive every pack it was given a
+    // share of: before a retired pack is freed, StringWorker::waitForJobs(postedJobs()).
+    void setWorker(StringWorker* worker) { worker_ = worker; }
     StringBank& bank() { return bank_; }
 
     // RT: numSamples of stereo at the host rate, replacing what is in left/right.
@@ -279,6 +290,17 @@ private:
     void smoothControls(double k20);
     void retuneSounding(int count, double rate);
     void mixChunk(float* left, float* right, int count, double gainStart);
+    // The sounding strings' chunk (n of them: voices[k] into blocks[k], seconds[k]); with a worker
+    // the second core's share may come back in its own blocks, written over blocks[k], seconds[k].
+    struct Sounding
+    {
+        std::array<Voice*, kSlots> voices{};
+        std::array<double*, kSlots> blocks{}, seconds{};
+        std::array<int, kSlots> slots{};
+        int count = 0;
+    };
+    void stepStrings(Sounding& sounding, int samples);
+    void stepWithWorker(Sounding& sounding, int samples);
     void mixString(int slot, const double* block, const double* second, int count, double gainStart);
     void startPendingNote(int slot);
     static void limitOutput(float* left, float* right, int numSamples);
@@ -294,6 +316,7 @@ private:
     VoicePack* pack_ = nullptr;
     StringScheduling scheduling_ = StringScheduling::lone;
     StringBank bank_;
+    StringWorker* worker_ = nullptr;
     int fadeLength_ = 1;  // a steal's fade-out, host samples
     std::array<Slot, kSlots> slots_{};
     InstrumentControls target_, current_;

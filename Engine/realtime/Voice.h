@@ -53,6 +53,10 @@ public:
     // OFF: with the solver configuration already built (voiceSolverConfig(config)): several voices
     // of one string share the work of building it.
     Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig);
+    Voice(const Voice&) = delete;
+    // RT: this voice becomes the other's exact copy (its string, state, pulse, counters, tables).
+    // Only into a voice built from the same configuration: then nothing is allocated.
+    Voice& operator=(const Voice&) = default;
 
     int modes() const { return solver_.modeCount(); }
     int activeModes() const { return solver_.activeModeCount(); }

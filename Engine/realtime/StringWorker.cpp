@@ -1,0 +1,138 @@
+#include "realtime/StringWorker.h"
+
+#include "realtime/Denormals.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
+namespace jawari
+{
+
+namespace
+{
+void cpuRelax()
+{
+#if defined(__x86_64__) || defined(__i386__)
+    _mm_pause();
+#endif
+}
+}  // namespace
+
+StringWorker::~StringWorker()
+{
+    stop();
+}
+
+void StringWorker::start()
+{
+    if (thread_.joinable())
+        return;
+    stopping_.store(false);
+    running_.store(true, std::memory_order_release);
+    thread_ = std::thread([this] { run(); });
+}
+
+void StringWorker::stop()
+{
+    if (!thread_.joinable())
+        return;
+    running_.store(false, std::memory_order_release);
+    stopping_.store(true, std::memory_order_release);
+    signal_.fetch_add(1, std::memory_order_release);
+    signal_.notify_one();
+    thread_.join();
+}
+
+bool StringWorker::idle() const
+{
+    return running() && finished_.load(std::memory_order_acquire) == posted_.load(std::memory_order_relaxed);
+}
+
+void StringWorker::post(const Task* tasks, int count, int samples)
+{
+    count_ = count < kMaxTasks ? count : kMaxTasks;
+    samples_ = samples;
+    for (int i = 0; i < count_; ++i)
+    {
+        tasks_[size_t(i)] = tasks[i];
+        state_[size_t(i)].store(posted, std::memory_order_relaxed);
+    }
+    posted_.fetch_add(1, std::memory_order_release);
+    signal_.fetch_add(1, std::memory_order_release);
+    signal_.notify_one();  // a futex wake only if the worker sleeps
+}
+
+StringWorker::Outcome StringWorker::collect(int i, std::chrono::steady_clock::time_point deadline)
+{
+    auto& state = state_[size_t(i)];
+    int seen = posted;
+    if (state.compare_exchange_strong(seen, takenBack, std::memory_order_acq_rel))
+        return Outcome::notStarted;
+    while (seen == stepping && std::chrono::steady_clock::now() < deadline)
+    {
+        cpuRelax();
+        seen = state.load(std::memory_order_acquire);
+    }
+    if (seen == stepping && state.compare_exchange_strong(seen, takenBack, std::memory_order_acq_rel))
+        return Outcome::revoked;
+    return Outcome::worker;  // done: its writes are visible (acquire)
+}
+
+void StringWorker::waitForJobs(uint32_t jobs) const
+{
+    while (static_cast<int32_t>(finished_.load(std::memory_order_acquire) - jobs) < 0 && running())
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+}
+
+void StringWorker::run()
+{
+    ScopedFlushDenormals flush;  // as the audio thread steps: the same arithmetic
+    uint32_t seen = finished_.load(std::memory_order_acquire);
+    while (waitForJob(seen))
+    {
+        seen = posted_.load(std::memory_order_acquire);
+        runJob();
+        finished_.store(seen, std::memory_order_release);
+    }
+}
+
+// Spins for the next job for kSpin (the next chunk usually follows within it), then sleeps until
+// a post or stop() changes signal_.
+bool StringWorker::waitForJob(uint32_t seen)
+{
+    const auto spinUntil = std::chrono::steady_clock::now() + kSpin;
+    for (;;)
+    {
+        const uint32_t signal = signal_.load(std::memory_order_acquire);
+        if (stopping_.load(std::memory_order_acquire))
+            return false;
+        if (posted_.load(std::memory_order_acquire) != seen)
+            return true;
+        if (std::chrono::steady_clock::now() < spinUntil)
+            cpuRelax();
+        else
+            signal_.wait(signal, std::memory_order_acquire);
+    }
+}
+
+// The tasks in order; each claimed by one compare-and-swap, and handed back the same way unless
+// the audio thread took it meanwhile.
+void StringWorker::runJob()
+{
+    for (int i = 0; i < count_; ++i)
+    {
+        auto& state = state_[size_t(i)];
+        int expected = posted;
+        if (!state.compare_exchange_strong(expected, stepping, std::memory_order_acq_rel))
+            continue;
+        if (const long delay = delay_.load(std::memory_order_relaxed); delay > 0)
+            std::this_thread::sleep_for(std::chrono::microseconds(delay));
+        const Task& task = tasks_[size_t(i)];
+        task.voice->processInternal(task.block, samples_, task.second);
+        expected = stepping;
+        state.compare_exchange_strong(expected, done, std::memory_order_acq_rel);
+    }
+}
+
+}  // namespace jawari

@@ -1,0 +1,99 @@
+#pragma once
+// A second core for the instrument's strings (opt-in; docs/design.md section 6, "The second core").
+//
+// Each chunk, the audio thread hands the worker a share of the sounding strings as tasks. A task is a
+// CLONE of a string's voice (copied on the audio thread just before: a few kilobytes) and blocks of
+// the worker's own to step it into; the original stays the audio thread's. Each task then ends one
+// of three ways, decided by one compare-and-swap on its state:
+//   - the worker finished it: the clone, one chunk further on, becomes the string;
+//   - the worker had not started it: the audio thread steps the original itself;
+//   - the worker is still stepping it: the audio thread spins until a deadline it chooses, then
+//     revokes it and steps the original itself; the worker's result is thrown away when it ends.
+// The clone starts as an exact copy, so every outcome is the same arithmetic: the output is bit for
+// bit what one thread makes, whoever stepped which string. The audio thread never waits beyond its
+// deadline and never blocks: posting is an atomic store (a futex wake when the worker sleeps).
+//
+// A worker still busy with a revoked task is not idle(), and the audio thread does the whole chunk
+// itself until it is. Whatever a task points into (a VoicePack) must outlive it: before freeing
+// memory the audio thread has handed over, wait for jobsFinishedBy(postedJobs()) OFF.
+
+#include "realtime/Voice.h"
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+
+namespace jawari
+{
+
+class StringWorker
+{
+public:
+    static constexpr int kMaxTasks = 16;
+
+    struct Task
+    {
+        Voice* voice = nullptr;  // the clone to step
+        double* block = nullptr;   // its internal-rate samples
+        double* second = nullptr;  // its second pickup's, or null
+    };
+    enum class Outcome
+    {
+        worker,      // stepped by the worker: take the clone and its blocks
+        notStarted,  // the caller steps the original
+        revoked      // the worker was late: the caller steps the original
+    };
+
+    StringWorker() = default;
+    ~StringWorker();  // OFF: stop()
+    StringWorker(const StringWorker&) = delete;
+    StringWorker& operator=(const StringWorker&) = delete;
+
+    // OFF: starts the worker's thread (running() from then on) / stops it after the job in hand.
+    void start();
+    void stop();
+    bool running() const { return running_.load(std::memory_order_acquire); }
+
+    // RT: the worker runs and has finished every job posted: it may take another.
+    bool idle() const;
+    // RT: hands over `count` tasks (<= kMaxTasks) of `samples` host samples. Only when idle().
+    void post(const Task* tasks, int count, int samples);
+    // RT: task i's outcome, waiting for the worker at most until `deadline` if it is stepping it.
+    Outcome collect(int i, std::chrono::steady_clock::time_point deadline);
+
+    // OFF: the number of jobs posted so far, and a wait until the worker has finished (or dropped)
+    // the first `jobs` of them.
+    uint32_t postedJobs() const { return posted_.load(std::memory_order_acquire); }
+    void waitForJobs(uint32_t jobs) const;
+
+    // Tests: the worker sleeps this long after starting each task (a worker the system preempted).
+    void delayEachTaskForTesting(std::chrono::microseconds delay) { delay_.store(delay.count()); }
+    // How long the worker spins for the next job before it sleeps (it is woken by the next post).
+    static constexpr std::chrono::microseconds kSpin{2000};
+
+private:
+    enum State : int
+    {
+        posted,
+        stepping,
+        done,
+        takenBack  // by the audio thread: not started, or revoked
+    };
+    void run();
+    void runJob();
+    bool waitForJob(uint32_t seen);  // false: stop
+
+    std::array<Task, kMaxTasks> tasks_{};
+    std::array<std::atomic<int>, kMaxTasks> state_{};
+    int count_ = 0, samples_ = 0;
+    std::atomic<uint32_t> posted_{0};    // jobs posted (the audio thread's)
+    std::atomic<uint32_t> finished_{0};  // jobs the worker has finished
+    std::atomic<uint32_t> signal_{0};    // changed by each post and by stop(): what a sleeping worker waits on
+    std::atomic<bool> running_{false}, stopping_{false};
+    std::atomic<long> delay_{0};  // microseconds
+    std::thread thread_;
+};
+
+}  // namespace jawari

@@ -1,0 +1,178 @@
+// The second core (Engine/realtime/StringWorker.h): a voice's copy steps as the voice, and the
+// instrument's output is the same bit for bit with the worker on, late, or stopped mid-play. Its own
+// binary, linking the real-time engine only, so that tools/tsan.sh can build it under
+// ThreadSanitizer.
+
+#include "realtime/Instrument.h"
+#include "realtime/StringWorker.h"
+#include "realtime/Voice.h"
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+using namespace jawari;
+
+namespace
+{
+InstrumentStructure structureFor(ObstacleShape shape)
+{
+    InstrumentStructure s;
+    s.quality = 0;  // draft: quick
+    s.shape = shape;
+    s.obstaclePosition = shape == ObstacleShape::parabola ? 0.03 : 0.006;
+    s.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+    return s;
+}
+
+struct Performance
+{
+    std::vector<float> left, right;
+    InstrumentActivity activity;
+};
+
+// Eight notes, the drone, a bend, the bridge automated, a new pack, the notes released: 2 s in
+// 128-sample blocks (and a 37-sample one now and then), with the second core if one is given.
+Performance perform(ObstacleShape shape, StringWorker* worker)
+{
+    auto structure = structureFor(shape);
+    auto first = buildVoicePack(structure);
+    structure.pluckPosition = 0.3;
+    auto second = buildVoicePack(structure);
+    Instrument instrument;
+    instrument.setWorker(worker);
+    // The bridge held lower than the point: a string pressed deep along a bridge costs many times
+    // real time at draft.
+    const double height = shape == ObstacleShape::parabola ? 2e-5 : 1e-4;
+    InstrumentControls c;
+    c.obstacleHeight = height;
+    instrument.setControls(c);
+    instrument.install(first.get(), nullptr);
+    instrument.settleControls();
+    instrument.clearActivity();
+    Performance out;
+    std::vector<float> l(128), r(128);
+    for (int b = 0; b < 750; ++b)
+    {
+        if (b < 8)
+            instrument.noteOn(45 + 3 * b, 0.5 + 0.05 * b);
+        if (b == 100)
+        {
+            instrument.pitchBend(0.5);
+            c.drone = true;
+            c.droneTempo = 240.0;
+            c.obstacleHeight = 3.0 * height;
+            c.decayScale = 1.5;
+            instrument.setControls(c);
+        }
+        if (b == 300)
+            instrument.install(second.get(), first.get());
+        if (b == 500)
+            for (int n = 0; n < 8; ++n)
+                instrument.noteOff(45 + 3 * n);
+        const int count = b % 7 == 3 ? 37 : 128;
+        instrument.render(l.data(), r.data(), count);
+        out.left.insert(out.left.end(), l.begin(), l.begin() + count);
+        out.right.insert(out.right.end(), r.begin(), r.begin() + count);
+    }
+    out.activity = instrument.activity();
+    if (worker != nullptr)
+        worker->waitForJobs(worker->postedJobs());  // the packs die here: nothing may still step them
+    return out;
+}
+
+bool sameBits(const std::vector<float>& a, const std::vector<float>& b)
+{
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+double peak(const std::vector<float>& y)
+{
+    double m = 0.0;
+    for (float v : y)
+        m = std::max(m, double(std::abs(v)));
+    return m;
+}
+}  // namespace
+
+TEST_CASE("A voice copied into another built alike steps exactly as the original", "[second core]")
+{
+    auto pack = buildVoicePack(structureFor(ObstacleShape::parabola));
+    Voice& voice = *pack->voices[0];
+    Voice& clone = *pack->clones[0];
+    voice.setContactLaw(ContactLaw{1e13, 1.3}, 1e-4);  // the bridge pushed into the string
+    voice.pluckFromShape(2e-3);
+    std::vector<double> a(64 * size_t(pack->oversampling)), b(a.size()), a2(a.size()), b2(a.size());
+    for (int k = 0; k < 20; ++k)  // into contact with the bridge, out of reach points refreshed
+        voice.processInternal(a.data(), 64, a2.data());
+    clone.processInternal(b.data(), 64, b2.data());  // the clone elsewhere: overwritten next
+    clone = voice;
+    for (int k = 0; k < 50; ++k)
+    {
+        voice.processInternal(a.data(), 64, a2.data());
+        clone.processInternal(b.data(), 64, b2.data());
+        REQUIRE(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+        REQUIRE(std::memcmp(a2.data(), b2.data(), a2.size() * sizeof(double)) == 0);
+    }
+    CHECK(voice.stringEnergy() == clone.stringEnergy());
+    CHECK(voice.stringEnergy() > 0.0);
+}
+
+TEST_CASE("With a second core the instrument's output is the same bit for bit, on time or late",
+          "[second core]")
+{
+    for (const auto shape : {ObstacleShape::point, ObstacleShape::parabola})
+    {
+        INFO("shape " << int(shape));
+        const Performance alone = perform(shape, nullptr);
+        REQUIRE(peak(alone.left) > 0.01);
+
+        StringWorker worker;
+        worker.start();
+        // On a loaded machine the worker may get no core in time; the test needs it to have
+        // stepped strings, so it plays again (at most three times) until it has.
+        Performance shared;
+        for (int attempt = 0; attempt < 3 && shared.activity.workerStrings < 100; ++attempt)
+        {
+            shared = perform(shape, &worker);
+            CHECK(sameBits(shared.left, alone.left));
+            CHECK(sameBits(shared.right, alone.right));
+        }
+        CHECK(shared.activity.workerStrings >= 100);
+        CHECK(shared.activity.newtonIterations == alone.activity.newtonIterations);
+
+        // A worker the system keeps preempting: each string it starts, it finishes 2 ms later,
+        // after the audio thread has (mostly) taken it back and stepped it itself.
+        worker.delayEachTaskForTesting(std::chrono::microseconds(2000));
+        const Performance late = perform(shape, &worker);
+        CHECK(sameBits(late.left, alone.left));
+        CHECK(sameBits(late.right, alone.right));
+        CHECK(late.activity.workerRevoked > 10);
+        worker.delayEachTaskForTesting(std::chrono::microseconds(0));
+        INFO("on time: " << shared.activity.workerStrings << " strings by the worker, "
+                         << shared.activity.workerRevoked << " taken back; late: " << late.activity.workerStrings
+                         << " by the worker, " << late.activity.workerRevoked << " taken back");
+    }
+}
+
+TEST_CASE("A worker never started, or stopped and started again, changes nothing", "[second core]")
+{
+    const Performance alone = perform(ObstacleShape::point, nullptr);
+    StringWorker worker;
+    // Stopped before it ever runs: every task posted is taken back (none is), nothing waits.
+    const Performance never = perform(ObstacleShape::point, &worker);
+    CHECK(sameBits(never.left, alone.left));
+    CHECK(never.activity.workerStrings == 0);
+    worker.start();
+    worker.stop();
+    worker.start();
+    Performance again;
+    for (int attempt = 0; attempt < 3 && again.activity.workerStrings == 0; ++attempt)
+    {
+        again = perform(ObstacleShape::point, &worker);
+        CHECK(sameBits(again.left, alone.left));
+    }
+    CHECK(again.activity.workerStrings > 0);
+}
