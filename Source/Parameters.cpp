@@ -240,6 +240,9 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     addMidi(layout);
     layout.add(
         number(ids::stereoWidth, "Stereo width", Range(0.0f, 1.0f, 0.01f), kControlDefaults.stereoWidth, asPercent()));
+    // Off by default: a second core only helps where the host leaves one free (StringWorker.h).
+    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::secondCore, 1}, "Use a second core",
+                                                          false));
     return layout;
 }
 

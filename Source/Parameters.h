@@ -53,6 +53,7 @@ inline constexpr const char* droneFine4 = "droneFine4";
 inline constexpr const char* mpe = "mpe";
 inline constexpr const char* stereoWidth = "stereoWidth";
 inline constexpr const char* mpeBendRange = "mpeBendRange";
+inline constexpr const char* secondCore = "secondCore";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -90,7 +91,8 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::droneFine4,
                                                 ids::mpe,
                                                 ids::mpeBendRange,
-                                                ids::stereoWidth};
+                                                ids::stereoWidth,
+                                                ids::secondCore};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.
@@ -144,6 +146,7 @@ public:
     // RT: the controls, with the damping curve given.
     InstrumentControls controls(const std::array<std::atomic<float>, kDampingCurvePoints>& curve) const;
     MidiSettings midi() const;  // RT
+    bool secondCore() const { return get(ids::secondCore) > 0.5f; }  // RT: "use a second core"
 
 private:
     float get(ParameterIndex id) const { return values_[id.value()]->load(std::memory_order_relaxed); }

@@ -40,7 +40,8 @@ public:
     {
         while (!threadShouldExit())
         {
-            owner_.exchange_.collect();
+            owner_.syncWorker();
+            owner_.collectRetired();
             const double rate = owner_.hostRate_.load();
             if (rate > 0.0)
             {
@@ -85,10 +86,27 @@ JawariAudioProcessor::~JawariAudioProcessor()
     builder_->stopThread(5000);
 }
 
+void JawariAudioProcessor::collectRetired()
+{
+    if (exchange_.retiredEmpty())
+        return;
+    // Every task on the retired pack was posted before it was retired: wait for those.
+    worker_.waitForJobs(worker_.postedJobs());
+    exchange_.collect();
+}
+
+void JawariAudioProcessor::syncWorker()
+{
+    if (reader_.secondCore())
+        worker_.start();
+    else
+        worker_.stop();
+}
+
 void JawariAudioProcessor::installNow(std::unique_ptr<VoicePack> pack)
 {
     // Only while audio is stopped (prepareToPlay): this thread stands in for the audio thread.
-    exchange_.collect();
+    collectRetired();
     latency_.store(pack->latencySamples);
     exchange_.offer(std::move(pack));
     VoicePack* previous = nullptr;
@@ -98,7 +116,7 @@ void JawariAudioProcessor::installNow(std::unique_ptr<VoicePack> pack)
         exchange_.retire();
         ++packsInstalled_;
     }
-    exchange_.collect();
+    collectRetired();
 }
 
 void JawariAudioProcessor::prepareToPlay(double sampleRate, int)
@@ -106,6 +124,7 @@ void JawariAudioProcessor::prepareToPlay(double sampleRate, int)
     builder_->stopThread(10000);
     keyboard_.drain([](const KeyboardInput::Event&) {});  // keys pressed while audio was stopped
     hostRate_.store(sampleRate);
+    syncWorker();
     const auto s = reader_.structure(sampleRate);
     installNow(buildVoicePack(s));
     // Playback starts at the parameters' values: a first note does not hear the gain or the
@@ -151,6 +170,7 @@ void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::
         packsInstalled_.fetch_add(1, std::memory_order_relaxed);
     }
     instrument_.setControls(controls());
+    instrument_.setWorker(reader_.secondCore() && worker_.running() ? &worker_ : nullptr);
 
     float* left = buffer.getWritePointer(0);
     float* right = buffer.getNumChannels() > 1 ? buffer.getWritePointer(1) : nullptr;

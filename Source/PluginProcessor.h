@@ -6,7 +6,9 @@
 // pickup points, inharmonicity, quality, method, release) and builds a new VoicePack for them,
 // handed to the audio thread through LockFreeExchange and freed back on the builder thread. Notes
 // played in the editor reach processBlock through KeyboardInput's lock-free queue and sound at the
-// start of the next block.
+// start of the next block. With "use a second core" on, a worker thread (StringWorker) steps half the
+// sounding strings; the builder starts and stops it, and frees a retired pack only once the worker
+// can no longer be stepping its strings.
 
 #include "KeyboardInput.h"
 #include "Parameters.h"
@@ -96,6 +98,8 @@ private:
     class Builder;
     void handleAsyncUpdate() override;
     void installNow(std::unique_ptr<VoicePack> pack);
+    void collectRetired();  // CT: frees the pack the audio thread retired, once no worker task can use it
+    void syncWorker();      // CT: the second core's thread running exactly when its parameter is on
     void handleMidi(const juce::MidiMessage& m, const MidiSettings& settings);  // RT
     InstrumentControls controls() const;  // the parameters and the keyboard's pitches, as the engine takes them. RT
 
@@ -110,6 +114,7 @@ private:
     Instrument instrument_;
     KeyboardInput keyboard_;
     LockFreeExchange<VoicePack> exchange_;
+    StringWorker worker_;  // after exchange_: stopped before the packs are freed
     std::unique_ptr<Builder> builder_;
     std::atomic<double> hostRate_{0.0};
     std::atomic<int> latency_{0};

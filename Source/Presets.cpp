@@ -63,8 +63,8 @@ void applyFactoryPreset(juce::AudioProcessorValueTreeState& state, const Factory
     for (auto* p : state.processor.getParameters())
     {
         auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p);
-        if (ranged == nullptr)
-            continue;
+        if (ranged == nullptr || ranged->getParameterID() == ids::secondCore)
+            continue;  // the second core is the machine's setting, not the sound's
         float normalised = ranged->getDefaultValue();
         for (const auto& [id, value] : preset.values)
             if (ranged->getParameterID() == id)

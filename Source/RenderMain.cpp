@@ -41,7 +41,7 @@ constexpr const char* usage =
 
 usage: jawari-render SCENE.json -o OUT.wav [options]
        jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
-                     [--output-rate HZ] [--quiet]
+                     [--output-rate HZ] [--second-core] [--quiet]
        jawari-render --preset NAME | --state FILE -o OUT.wav --duration S   (the drone alone)
 
   -o, --output FILE       the WAV file to write (required)
@@ -70,6 +70,8 @@ MIDI (instead of a scene file):
                           "Bass fret buzz"); the plugin's defaults (Default) without it
   --state FILE            a state saved by the plugin as XML (a user preset, .jawaripreset)
   --output-rate HZ        the rate the plugin runs at: 22050 to 192000 Hz (default 48000)
+  --second-core           the plugin's "use a second core": half the strings stepped on another
+                          thread (faster on two free cores; the same samples to the last bit)
 
 The drone alone: --preset or --state without --midi (or with a MIDI file that holds no channel
 events) plays a sound whose drone is on, for --duration seconds (required: a drone never falls
@@ -209,7 +211,7 @@ struct Request
     juce::String scenePath;
     std::optional<juce::String> output, method, modes, rate, duration, outputRate, energyPath;
     std::optional<juce::String> midiPath, preset, statePath;
-    bool raw = false, quiet = false;
+    bool raw = false, quiet = false, secondCore = false;
     bool throughPlugin = false;  // --midi, or the drone alone: no scene file
 };
 
@@ -224,8 +226,8 @@ void checkOptionsFit(const Request& q, int positionals)
 {
     if (!playsPlugin(q, positionals))
     {
-        if (q.preset || q.statePath)
-            throw UsageError(std::string(q.preset ? "--preset" : "--state")
+        if (q.preset || q.statePath || q.secondCore)
+            throw UsageError(std::string(q.preset ? "--preset" : q.statePath ? "--state" : "--second-core")
                              + " applies to renders through the plugin (--midi, or the drone alone), not to "
                                "scene files");
         return;
@@ -261,6 +263,7 @@ Request parseArguments(int argc, char* argv[])
     q.statePath = optionValue(args, "--state");
     q.raw = args.removeOptionIfFound("--raw");
     q.quiet = args.removeOptionIfFound("--quiet");
+    q.secondCore = args.removeOptionIfFound("--second-core");
     juce::StringArray positional;
     for (const auto& a : args.arguments)
     {
@@ -488,6 +491,8 @@ int runMidi(const Request& q)
     const juce::ScopedJuceInitialiser_GUI juceRuntime;  // the processor's parameters run a timer
     jawari::plugin::JawariAudioProcessor processor;
     const juce::String sound = chooseSound(processor, q);
+    if (q.secondCore)
+        processor.parameters().getParameter(jawari::plugin::ids::secondCore)->setValueNotifyingHost(1.0f);
     if (score.events.getNumEvents() == 0)
         checkDroneAlone(processor, q, sound);
     const bool bar = !q.quiet && isatty(STDERR_FILENO);

@@ -281,6 +281,35 @@ TEST_CASE("jawari-render --midi plays a state file the plugin saved, and factory
     CHECK(a.right == b.right);
 }
 
+TEST_CASE("jawari-render --midi --second-core writes the same file to the last bit")
+{
+    // Eight notes on the Sitar's bridge, and the drone of the Tanpura drone preset with them.
+    const auto dir = scratch();
+    juce::MidiMessageSequence notes;
+    for (int n = 0; n < 8; ++n)
+    {
+        notes.addEvent(juce::MidiMessage::noteOn(1, 48 + 3 * n, juce::uint8(70 + 5 * n)), 60.0 * n);
+        notes.addEvent(juce::MidiMessage::noteOff(1, 48 + 3 * n), 900.0 + 60.0 * n);
+    }
+    const auto midi = writeMidi(dir / "chord.mid", {notes}, 0);
+    for (const std::string preset : {"Sitar", "'Tanpura drone'"})
+    {
+        const auto one = dir / "one.wav", two = dir / "two.wav";
+        const auto a = render("--midi " + midi + " --preset " + preset + " --duration 1.5 -o " + one.string());
+        const auto b =
+            render("--midi " + midi + " --preset " + preset + " --duration 1.5 --second-core -o " + two.string());
+        INFO(preset << "\n" << a.output << "\n" << b.output);
+        REQUIRE(a.status == 0);
+        REQUIRE(b.status == 0);
+        std::ifstream inOne(one, std::ios::binary), inTwo(two, std::ios::binary);
+        const std::string bytesOne{std::istreambuf_iterator<char>(inOne), {}};
+        const std::string bytesTwo{std::istreambuf_iterator<char>(inTwo), {}};
+        CHECK(bytesOne.size() > size_t(3 * 2 * 48000));
+        CHECK(bytesOne == bytesTwo);
+        CHECK(peakOf(readWav(two)) > 0.05);
+    }
+}
+
 TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and option mixes with status 2")
 {
     const auto dir = scratch();
@@ -331,6 +360,7 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         {"--midi " + good + " --output-rate 8000", "--output-rate: the plugin runs at 22050 to 192000 Hz"},
         {"--midi " + good + " --duration 0", "--duration"},
         {jawari::test::resource("Scenes/paper-centre.json") + " --preset Default", "--preset applies to renders through the plugin"},
+        {jawari::test::resource("Scenes/paper-centre.json") + " --second-core", "--second-core applies to renders through the plugin"},
     };
     for (const auto& c : cases)
     {

@@ -273,7 +273,8 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::droneFine4, 0.0f},
                                                       {ids::mpe, 0.0f},
                                                       {ids::mpeBendRange, 48.0f},
-                                                      {ids::stereoWidth, 0.6f}};
+                                                      {ids::stereoWidth, 0.6f},
+                                                      {ids::secondCore, 0.0f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -374,7 +375,8 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::droneFine4, -12.0f},
                                                     {ids::mpe, 1.0f},
                                                     {ids::mpeBendRange, 24.0f},
-                                                    {ids::stereoWidth, 0.25f}};
+                                                    {ids::stereoWidth, 0.25f},
+                                                    {ids::secondCore, 1.0f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);

@@ -317,6 +317,7 @@ private:
     StringScheduling scheduling_ = StringScheduling::lone;
     StringBank bank_;
     StringWorker* worker_ = nullptr;
+    int workerBias_ = 0;  // strings the worker takes beyond half (InstrumentStrings.cpp)
     int fadeLength_ = 1;  // a steal's fade-out, host samples
     std::array<Slot, kSlots> slots_{};
     InstrumentControls target_, current_;

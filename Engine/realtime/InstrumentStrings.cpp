@@ -3,6 +3,7 @@
 
 #include "realtime/Instrument.h"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -20,15 +21,19 @@ void Instrument::stepStrings(Sounding& s, int samples)
             s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
 }
 
-// The worker takes the last half of the sounding strings, each as a clone copied here, and steps
-// them from the front of its half; the audio thread steps the first half, then collects the
-// worker's from the back: a clone the worker finished becomes the string (its blocks are the
-// string's), and a string the worker has not started, or is still stepping after 1.5 times the
-// audio thread's own mean time per string, the audio thread steps itself.
+// The worker takes the last strings, each as a clone copied here, and steps them from the front of
+// its share; the audio thread steps the first ones, then collects the worker's from the back: a
+// clone the worker finished becomes the string (its blocks are the string's), and a string the
+// worker has not started, or is still stepping after 1.5 times the audio thread's own mean time per
+// string, the audio thread steps itself. The shares balance from chunk to chunk: about half each,
+// one string more for the worker after a chunk it finished before the audio thread had stepped its
+// own, one fewer after a chunk it did not finish.
 void Instrument::stepWithWorker(Sounding& s, int samples)
 {
     using Clock = std::chrono::steady_clock;
-    const int n = s.count, own = n - n / 2;
+    const int n = s.count;
+    workerBias_ = std::clamp(workerBias_, -n / 2, n / 2);
+    const int own = std::clamp(n - n / 2 - workerBias_, 1, n - 1);
     const size_t chunkSteps = size_t(kChunk) * size_t(pack_->oversampling);
     std::array<StringWorker::Task, kSlots> tasks{};
     for (int k = own; k < n; ++k)
@@ -44,6 +49,9 @@ void Instrument::stepWithWorker(Sounding& s, int samples)
     for (int k = 0; k < own; ++k)
         s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
     const auto patience = (Clock::now() - start) * 3 / (2 * own);
+    bool late = false;
+    if (worker_->jobFinished())
+        ++workerBias_;  // the worker waited for the audio thread
     for (int k = n - 1; k >= own; --k)
     {
         const size_t slot = size_t(s.slots[size_t(k)]);
@@ -57,10 +65,13 @@ void Instrument::stepWithWorker(Sounding& s, int samples)
             ++activity_.workerStrings;
             continue;
         }
+        late = true;
         if (outcome == StringWorker::Outcome::revoked)
             ++activity_.workerRevoked;
         s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
     }
+    if (late)
+        --workerBias_;
 }
 
 }  // namespace jawari

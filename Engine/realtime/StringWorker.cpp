@@ -46,7 +46,7 @@ void StringWorker::stop()
 
 bool StringWorker::idle() const
 {
-    return running() && finished_.load(std::memory_order_acquire) == posted_.load(std::memory_order_relaxed);
+    return running() && jobFinished();
 }
 
 void StringWorker::post(const Task* tasks, int count, int samples)
@@ -102,14 +102,14 @@ void StringWorker::run()
 bool StringWorker::waitForJob(uint32_t seen)
 {
     const auto spinUntil = std::chrono::steady_clock::now() + kSpin;
-    for (;;)
+    for (unsigned spins = 1;; ++spins)
     {
         const uint32_t signal = signal_.load(std::memory_order_acquire);
         if (stopping_.load(std::memory_order_acquire))
             return false;
         if (posted_.load(std::memory_order_acquire) != seen)
             return true;
-        if (std::chrono::steady_clock::now() < spinUntil)
+        if (spins % 256 != 0 || std::chrono::steady_clock::now() < spinUntil)  // the clock read now and then
             cpuRelax();
         else
             signal_.wait(signal, std::memory_order_acquire);

@@ -58,6 +58,8 @@ public:
 
     // RT: the worker runs and has finished every job posted: it may take another.
     bool idle() const;
+    // RT: the job posted last is finished (every task done or taken back).
+    bool jobFinished() const { return finished_.load(std::memory_order_acquire) == posted_.load(std::memory_order_relaxed); }
     // RT: hands over `count` tasks (<= kMaxTasks) of `samples` host samples. Only when idle().
     void post(const Task* tasks, int count, int samples);
     // RT: task i's outcome, waiting for the worker at most until `deadline` if it is stepping it.

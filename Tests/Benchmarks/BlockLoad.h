@@ -65,13 +65,20 @@ public:
 
     static std::string describe(const InstrumentActivity& a)
     {
-        char text[200];
+        char text[260];
         std::snprintf(text, sizeof text,
                       "%d notes started, %d pulses, %d drone plucks, %d retunes, %d packs installed, %ld Newton "
                       "iterations (most %d in a step)",
                       a.notesStarted, a.pulses, a.dronePlucks, a.retunes, a.packsInstalled, a.newtonIterations,
                       a.mostIterations);
-        return text;
+        std::string line = text;
+        if (a.workerStrings > 0 || a.workerRevoked > 0)
+        {
+            std::snprintf(text, sizeof text, ", %ld strings on the second core, %ld taken back", a.workerStrings,
+                          a.workerRevoked);
+            line += text;
+        }
+        return line;
     }
 
 private:
