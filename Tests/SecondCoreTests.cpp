@@ -17,6 +17,13 @@ using namespace jawari;
 
 namespace
 {
+// Under ThreadSanitizer (tools/tsan.sh) everything runs many times slower: a shorter performance.
+#ifdef __SANITIZE_THREAD__
+constexpr int kBlocks = 240;
+#else
+constexpr int kBlocks = 750;
+#endif
+
 InstrumentStructure structureFor(ObstacleShape shape)
 {
     InstrumentStructure s;
@@ -33,8 +40,9 @@ struct Performance
     InstrumentActivity activity;
 };
 
-// Eight notes, the drone, a bend, the bridge automated, a new pack, the notes released: 2 s in
-// 128-sample blocks (and a 37-sample one now and then), with the second core if one is given.
+// Eight notes, the drone, a bend, the bridge automated, a new pack, the notes released: kBlocks
+// blocks of 128 samples (and of 37 now and then; 2 s in all without a sanitizer), with the second
+// core if one is given.
 Performance perform(ObstacleShape shape, StringWorker* worker)
 {
     auto structure = structureFor(shape);
@@ -54,11 +62,11 @@ Performance perform(ObstacleShape shape, StringWorker* worker)
     instrument.clearActivity();
     Performance out;
     std::vector<float> l(128), r(128);
-    for (int b = 0; b < 750; ++b)
+    for (int b = 0; b < kBlocks; ++b)
     {
         if (b < 8)
             instrument.noteOn(45 + 3 * b, 0.5 + 0.05 * b);
-        if (b == 100)
+        if (b == kBlocks / 8)
         {
             instrument.pitchBend(0.5);
             c.drone = true;
@@ -67,9 +75,9 @@ Performance perform(ObstacleShape shape, StringWorker* worker)
             c.decayScale = 1.5;
             instrument.setControls(c);
         }
-        if (b == 300)
+        if (b == kBlocks / 3)
             instrument.install(second.get(), first.get());
-        if (b == 500)
+        if (b == 2 * kBlocks / 3)
             for (int n = 0; n < 8; ++n)
                 instrument.noteOff(45 + 3 * n);
         const int count = b % 7 == 3 ? 37 : 128;

@@ -5,3 +5,4 @@ cd "$(dirname "$0")/.."
 bash tools/deps.sh
 bash tools/build.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)"
+bash tools/tsan.sh  # the second core's hand-over under ThreadSanitizer
