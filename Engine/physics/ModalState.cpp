@@ -118,20 +118,11 @@ void ModalState::copyArraysFrom(const ModalState& other)
     double* to = alignedBase();
     const size_t used = other.storage_.size() - 8;
     std::copy(from, from + used, to);
-    auto rebase = [&](const double* p) { return p == nullptr ? nullptr : to + (p - from); };
-    a_ = rebase(other.a_);
-    e_ = rebase(other.e_);
-    aNormal_ = rebase(other.aNormal_);
-    eNormal_ = rebase(other.eNormal_);
-    aReleased_ = rebase(other.aReleased_);
-    eReleased_ = rebase(other.eReleased_);
-    h_ = rebase(other.h_);
-    h2_ = rebase(other.h2_);
-    phiE_ = rebase(other.phiE_);
-    phi_ = rebase(other.phi_);
-    q_ = rebase(other.q_);
-    qPrev_ = rebase(other.qPrev_);
-    settled_ = rebase(other.settled_);
+    for (double* ModalState::*array : {&ModalState::a_, &ModalState::e_, &ModalState::aNormal_, &ModalState::eNormal_,
+                                        &ModalState::aReleased_, &ModalState::eReleased_, &ModalState::h_,
+                                        &ModalState::h2_, &ModalState::phiE_, &ModalState::phi_, &ModalState::q_,
+                                        &ModalState::qPrev_, &ModalState::settled_})
+        this->*array = other.*array == nullptr ? nullptr : to + (other.*array - from);
 }
 
 void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
