@@ -496,55 +496,64 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
         }
 }
 
-TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack", "[plugin]")
+TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack, on one core "
+          "or two",
+          "[plugin]")
 {
-    JawariAudioProcessor p;
-    setParameter(p, ids::quality, 0.0f);
-    p.prepareToPlay(48000.0, 512);
-    juce::AudioBuffer<float> buffer(2, 512);
-    juce::MidiBuffer midi;
-    midi.ensureSize(4096);
-    // A structural change: the builder builds a new pack off this thread; processBlock takes it.
-    setParameter(p, ids::obstaclePosition, 0.3f);
-    REQUIRE(p.waitForBuilds());
-    const long before = p.packsInstalled();
-    long counted = 0;
-    // Keys pressed on the editor's keyboard between blocks (the message thread's work, not counted).
-    auto pressKey = [&](int note, bool down) {
-        test::countAllocationsOnThisThread(false);
-        if (down)
-            p.keyboardState().noteOn(1, note, 0.8f);
-        else
-            p.keyboardState().noteOff(1, note, 0.0f);
-        test::countAllocationsOnThisThread(true);
-    };
+    for (const bool secondCore : {false, true})
     {
-        test::CountAllocations guard;
-        for (int b = 0; b < 200; ++b)
+        INFO("second core " << secondCore);
+        JawariAudioProcessor p;
+        setParameter(p, ids::quality, 0.0f);
+        setParameter(p, ids::secondCore, secondCore ? 1.0f : 0.0f);
+        p.prepareToPlay(48000.0, 512);
+        juce::AudioBuffer<float> buffer(2, 512);
+        juce::MidiBuffer midi;
+        midi.ensureSize(4096);
+        // A structural change: the builder builds a new pack off this thread; processBlock takes it.
+        setParameter(p, ids::obstaclePosition, 0.3f);
+        REQUIRE(p.waitForBuilds());
+        const long before = p.packsInstalled();
+        long counted = 0;
+        // Keys pressed on the editor's keyboard between blocks (the message thread's work, not counted).
+        auto pressKey = [&](int note, bool down) {
+            test::countAllocationsOnThisThread(false);
+            if (down)
+                p.keyboardState().noteOn(1, note, 0.8f);
+            else
+                p.keyboardState().noteOff(1, note, 0.0f);
+            test::countAllocationsOnThisThread(true);
+        };
         {
-            if (b % 10 == 5)
-                pressKey(60 + (b / 20) % 12, b % 20 == 5);
-            midi.clear();
-            if (b < 12)
-                midi.addEvent(juce::MidiMessage::noteOn(1, 48 + b, juce::uint8(100)), b * 13);
-            if (b == 30)
-                midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 127), 0);
-            if (b == 40)
-                midi.addEvent(juce::MidiMessage::pitchWheel(1, 12000), 5);
-            if (b == 60)
-                for (int n = 0; n < 12; ++n)
-                    midi.addEvent(juce::MidiMessage::noteOff(1, 48 + n), n);
-            if (b == 80)
-                midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 0), 0);
-            if (b == 100)
-                midi.addEvent(juce::MidiMessage::allNotesOff(1), 0);
-            p.processBlock(buffer, midi);
+            test::CountAllocations guard;
+            for (int b = 0; b < 200; ++b)
+            {
+                if (b % 10 == 5)
+                    pressKey(60 + (b / 20) % 12, b % 20 == 5);
+                midi.clear();
+                if (b < 12)
+                    midi.addEvent(juce::MidiMessage::noteOn(1, 48 + b, juce::uint8(100)), b * 13);
+                if (b == 30)
+                    midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 127), 0);
+                if (b == 40)
+                    midi.addEvent(juce::MidiMessage::pitchWheel(1, 12000), 5);
+                if (b == 60)
+                    for (int n = 0; n < 12; ++n)
+                        midi.addEvent(juce::MidiMessage::noteOff(1, 48 + n), n);
+                if (b == 80)
+                    midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 0), 0);
+                if (b == 100)
+                    midi.addEvent(juce::MidiMessage::allNotesOff(1), 0);
+                p.processBlock(buffer, midi);
+            }
+            counted = test::allocations;
         }
-        counted = test::allocations;
+        INFO("packs installed during the run " << p.packsInstalled() - before);
+        CHECK(counted == 0);
+        CHECK(p.packsInstalled() > before);
+        if (secondCore)
+            CHECK(p.instrument().activity().workerStrings > 0);
     }
-    INFO("packs installed during the run " << p.packsInstalled() - before);
-    CHECK(counted == 0);
-    CHECK(p.packsInstalled() > before);
 }
 
 TEST_CASE("setStateInformation survives empty, truncated, random and older-version data", "[plugin]")
