@@ -73,10 +73,19 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
 // phi_p(x_j) for every point and mode, and what a force at each point does to the pickup.
 void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
 {
-    shapes_.resize(static_cast<size_t>(P_) * M_);
-    for (int j = 0; j < P_; ++j)
-        for (int p = 0; p < M_; ++p)
-            shapes_[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
+    if (!config.contactShapes.empty())
+    {
+        if (config.contactShapes.size() != static_cast<size_t>(P_) * M_ || config.transform)
+            throw std::invalid_argument("the contact shapes must be P x M values, on the projection path");
+        shapes_ = config.contactShapes;
+    }
+    else
+    {
+        shapes_.resize(static_cast<size_t>(P_) * M_);
+        for (int j = 0; j < P_; ++j)
+            for (int p = 0; p < M_; ++p)
+                shapes_[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
+    }
     for (int j = 0; j < P_; ++j)
     {
         double hp = 0.0, hpB = 0.0;
@@ -103,10 +112,13 @@ void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
                 coupled_[p] = 1;
     if (config.excitationPosition)
     {
+        if (!config.excitationShape.empty() && static_cast<int>(config.excitationShape.size()) != M_)
+            throw std::invalid_argument("the excitation shape must have one value per mode");
         excitationShape_.resize(M_);
         for (int p = 0; p < M_; ++p)
         {
-            excitationShape_[p] = modeShape(L, p + 1, *config.excitationPosition);
+            excitationShape_[p] = config.excitationShape.empty() ? modeShape(L, p + 1, *config.excitationPosition)
+                                                                 : config.excitationShape[size_t(p)];
             if (std::abs(excitationShape_[p]) > couplingFloor)
                 coupled_[p] = 1;
         }

@@ -42,12 +42,18 @@ struct ModalSolverConfig
     double timeStep = 5e-7;  // s
     ModalTable modes;
     std::vector<ContactPoint> contacts;
+    // phi_p(x_j) of every contact point and mode (P x M, row-major), when the modes are not one
+    // polarisation's sine modes (both polarisations of a string as one set: Polarisations.h).
+    // Empty: the string's modes, phi_p(x_j) = sqrt(2/L) sin(p pi x_j / L). Projection path only.
+    std::vector<double> contactShapes;
     std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
     std::vector<double> secondPickupWeights;  // a second pickup's (the right channel's); empty for none
     // The reference grid's transform to the contact points; empty: projection.
     GridTransformFactory transform;
     // Where setExternalForce() pushes (the voice's pluck); its modes are kept active.
     std::optional<double> excitationPosition;
+    // The force's shape over the modes (M values) when not the sine modes' phi_p(excitationPosition).
+    std::vector<double> excitationShape;
     // Extra damping (1/s, every mode) of the second coefficient set, selected by setReleased().
     double releaseSigma = 0.0;
     // Residual compliance (ResidualCompliance.h), P x P row-major, m/N: C_ij = sum over the dropped
@@ -151,6 +157,7 @@ public:
     bool pointLive(int j) const { return live_[size_t(j)] != 0; }
     bool usesTransform() const { return transform_ != nullptr; }
     double timeStep() const { return dt_; }
+    double linearDensity() const { return mu_; }
 
     double pickup() const { return pickup_; }                       // RT: sum h_p q_p^n
     double secondPickup() const { return pickupB_; }                // RT: the second pickup's, 0 without one

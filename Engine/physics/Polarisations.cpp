@@ -1,0 +1,102 @@
+#include "physics/Polarisations.h"
+
+#include "physics/StringModel.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace jawari
+{
+
+namespace
+{
+// A vector over one polarisation's M modes, laid over 2M: `first` times it, then `second` times it.
+std::vector<double> overBoth(const std::vector<double>& v, double first, double second)
+{
+    std::vector<double> out(2 * v.size(), 0.0);
+    for (size_t p = 0; p < v.size(); ++p)
+    {
+        out[p] = first * v[p];
+        out[v.size() + p] = second * v[p];
+    }
+    return out;
+}
+
+std::vector<double> shapeAt(double L, int M, double x)
+{
+    std::vector<double> phi(static_cast<size_t>(M));
+    for (int p = 0; p < M; ++p)
+        phi[size_t(p)] = modeShape(L, p + 1, x);
+    return phi;
+}
+
+ModalTable bothTables(const ModalTable& vertical, const SecondPolarisation& second)
+{
+    ModalTable t = vertical;
+    for (int p = 0; p < vertical.size(); ++p)
+    {
+        t.frequencyHz.push_back(vertical.frequencyHz[size_t(p)] * (1.0 + second.detuning));
+        t.omega.push_back(vertical.omega[size_t(p)] * (1.0 + second.detuning));
+        t.sigma.push_back(vertical.sigma[size_t(p)] * second.dampingScale);
+    }
+    return t;
+}
+}  // namespace
+
+ModalSolverConfig twoPolarisationConfig(const ModalSolverConfig& vertical, const SecondPolarisation& second)
+{
+    if (vertical.transform || !vertical.contactCompliance.empty() || !vertical.contactShapes.empty())
+        throw std::invalid_argument("two polarisations take the projection path without a residual compliance");
+    const auto& k = second.coupling;
+    if (!(k.stiffness >= 0.0) || !std::isfinite(k.angle) || !(second.detuning > -1.0) || !(second.dampingScale >= 0.0))
+        throw std::invalid_argument("two polarisations: the coupling's stiffness must be >= 0, its angle finite, the "
+                                    "detuning above -1 and the damping scale >= 0");
+    const int M = vertical.modes.size();
+    const double L = vertical.lengthMetres;
+    ModalSolverConfig c = vertical;
+    c.modes = bothTables(vertical.modes, second);
+    for (const auto& point : vertical.contacts)
+    {
+        const auto row = overBoth(shapeAt(L, M, point.position), 1.0, 0.0);
+        c.contactShapes.insert(c.contactShapes.end(), row.begin(), row.end());
+    }
+    if (k.stiffness > 0.0)
+    {
+        if (!(k.position > 0.0 && k.position < L))
+            throw std::invalid_argument("two polarisations: the coupling must lie on the string");
+        const auto row = overBoth(shapeAt(L, M, k.position), std::cos(k.angle), std::sin(k.angle));
+        for (const double sign : {1.0, -1.0})
+        {
+            c.contacts.push_back({k.position, 1.0, 0.0, ContactLaw{k.stiffness, 1.0}, -1});
+            for (const double v : row)
+                c.contactShapes.push_back(sign * v);
+        }
+    }
+    c.pickupWeights = overBoth(vertical.pickupWeights, 1.0, 0.0);
+    if (!vertical.secondPickupWeights.empty())
+        c.secondPickupWeights = overBoth(vertical.secondPickupWeights, 1.0, 0.0);
+    if (vertical.excitationPosition)
+    {
+        const auto phi = vertical.excitationShape.empty() ? shapeAt(L, M, *vertical.excitationPosition)
+                                                          : vertical.excitationShape;
+        c.excitationShape =
+            overBoth(phi, std::cos(second.excitationAngle), std::sin(second.excitationAngle));
+    }
+    return c;
+}
+
+double modeRangeEnergy(ModalSolver& solver, int first, int count)
+{
+    const auto now = solver.modalState(false), before = solver.modalState(true);
+    const auto& c = solver.coefficients();
+    const double dt = solver.timeStep();
+    double sum = 0.0;
+    for (int p = first; p < first + count; ++p)
+    {
+        const double v = (now[size_t(p)] - before[size_t(p)]) / dt;
+        sum += c[size_t(p)].kineticWeight * v * v + c[size_t(p)].potentialWeight * now[size_t(p)] * before[size_t(p)];
+    }
+    return 0.5 * solver.linearDensity() * sum;
+}
+
+}  // namespace jawari
