@@ -35,8 +35,21 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
     s.rateHz = scene.simulation.rateHz.value_or(kReferenceRateHz);
     s.config =
         stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
-    chooseContactPath(s.config, path.value_or(ContactPath::automatic));
     s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
+    if (const auto& second = scene.secondPolarisation)
+    {
+        // Both polarisations: the pluck along its angle, cos to the vertical and sin to the other.
+        s.config = twoPolarisationConfig(s.config, *second);
+        const double angle = scene.excitation.angle;
+        s.initial.resize(2 * size_t(M), 0.0);
+        for (int p = 0; p < M; ++p)
+        {
+            s.initial[size_t(M + p)] = std::sin(angle) * s.initial[size_t(p)];
+            s.initial[size_t(p)] *= std::cos(angle);
+        }
+        return s;
+    }
+    chooseContactPath(s.config, path.value_or(ContactPath::automatic));
     return s;
 }
 

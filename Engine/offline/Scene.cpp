@@ -223,6 +223,28 @@ void readString(const json& j, Scene& scene)
     r.rejectUnknown();
 }
 
+// The horizontal polarisation's detuning and damping against the vertical's, and the spring that
+// couples the two (Polarisations.h).
+SecondPolarisation readSecondPolarisation(const json& j)
+{
+    ObjectReader r(j, "second_polarisation");
+    SecondPolarisation second;
+    second.detuning = r.number("detuning", second.detuning);
+    if (!(second.detuning > -1.0 && second.detuning < 1.0))
+        throw SceneError(r.at("detuning"), "must lie between -1 and 1 (got " + show(second.detuning) + ")");
+    second.dampingScale = r.nonNegative("damping_scale", second.dampingScale);
+    if (r.has("coupling"))
+    {
+        ObjectReader c(r.raw("coupling"), r.at("coupling"));
+        second.coupling.position = c.positive("position", 0.0);
+        second.coupling.angle = c.number("angle", 0.0);
+        second.coupling.stiffness = c.nonNegative("stiffness", 0.0);
+        c.rejectUnknown();
+    }
+    r.rejectUnknown();
+    return second;
+}
+
 Obstacle readObstacle(const json& j, const std::string& path, double L)
 {
     ObjectReader r(j, path);
@@ -366,6 +388,16 @@ void validateScene(const Scene& scene)
                              "mode " + std::to_string(scene.string.modeOverrides[i].number)
                                  + " is above the simulated modes (" + std::to_string(modes) + ")");
     requireOnString("excitation.position", scene.excitation.position, L);
+    if (scene.excitation.angle != 0.0 && !scene.secondPolarisation)
+        throw SceneError("excitation.angle", "turns the pluck out of the vertical: it needs a second_polarisation");
+    if (const auto& second = scene.secondPolarisation)
+    {
+        if (!sim.reference)
+            throw SceneError("second_polarisation", "takes the reference method (\"method\": \"reference\"); the "
+                                                    "voice's methods play one polarisation");
+        if (second->coupling.stiffness > 0.0)
+            requireOnString("second_polarisation.coupling.position", second->coupling.position, L);
+    }
     requireOnString("pickup.position", scene.pickup.position, L);
     for (size_t i = 0; i < scene.obstacles.size(); ++i)
     {
@@ -413,6 +445,7 @@ Scene parseScene(const std::string& jsonText)
         r.string("type", "pluck", {"pluck"});
         scene.excitation.position = r.number("position", scene.excitation.position);
         scene.excitation.amplitude = r.number("amplitude", scene.excitation.amplitude);
+        scene.excitation.angle = r.number("angle", scene.excitation.angle);
         r.rejectUnknown();
     }
     if (top.has("pickup"))
@@ -458,6 +491,10 @@ Scene parseScene(const std::string& jsonText)
         }
         r.rejectUnknown();
     }
+    if (top.has("second_polarisation"))
+        scene.secondPolarisation = readSecondPolarisation(top.raw("second_polarisation"));
+    if (scene.secondPolarisation)
+        scene.secondPolarisation->excitationAngle = scene.excitation.angle;
     top.rejectUnknown();
     validateScene(scene);
     return scene;

@@ -6,6 +6,7 @@
 #include "physics/ContactMethod.h"
 #include "physics/Obstacle.h"
 #include "physics/Pickup.h"
+#include "physics/Polarisations.h"
 #include "physics/StringModel.h"
 
 #include <optional>
@@ -33,6 +34,7 @@ struct Excitation
 {
     double position = 0.501;    // m
     double amplitude = 1.5e-3;  // m, triangular shape, zero velocity
+    double angle = 0.0;         // rad from the vertical (two polarisations: cos to the vertical, sin to the other)
 };
 
 struct Pickup
@@ -63,6 +65,9 @@ struct Scene
     Excitation excitation;
     Pickup pickup;
     Simulation simulation;
+    // The string's second transverse polarisation (Polarisations.h), or one polarisation. Its
+    // excitationAngle is the excitation's angle.
+    std::optional<SecondPolarisation> secondPolarisation;
 };
 
 inline constexpr double kMaxDurationSeconds = 3600.0;
