@@ -2,7 +2,11 @@
 
 #include "physics/StringModel.h"
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace jawari
@@ -83,6 +87,69 @@ ModalSolverConfig twoPolarisationConfig(const ModalSolverConfig& vertical, const
             overBoth(phi, std::cos(second.excitationAngle), std::sin(second.excitationAngle));
     }
     return c;
+}
+
+CoupledModes coupledModesConfig(const ModalSolverConfig& vertical, const SecondPolarisation& second)
+{
+    SecondPolarisation uncoupled = second;
+    uncoupled.coupling.stiffness = 0.0;
+    CoupledModes out{twoPolarisationConfig(vertical, uncoupled), {}};
+    // twoPolarisationConfig checked the rest; the spring's own values:
+    const auto& k = second.coupling;
+    if (k.stiffness > 0.0 && !(k.position > 0.0 && k.position < vertical.lengthMetres))
+        throw std::invalid_argument("two polarisations: the coupling must lie on the string");
+    auto& c = out.config;
+    const int N = c.modes.size(), M = N / 2;
+    const auto r = overBoth(shapeAt(vertical.lengthMetres, M, k.position), std::cos(k.angle), std::sin(k.angle));
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(N, N);
+    for (int p = 0; p < N; ++p)
+        A(p, p) = c.modes.omega[size_t(p)] * c.modes.omega[size_t(p)];
+    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), N);
+    if (k.stiffness > 0.0)
+        A.noalias() += (k.stiffness / c.linearDensity) * rv * rv.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(A);
+    if (eigen.info() != Eigen::Success || !(eigen.eigenvalues().minCoeff() > 0.0))
+        throw std::runtime_error("two polarisations: the coupled string's modes were not found");
+    const Eigen::MatrixXd& V = eigen.eigenvectors();
+    out.basis.assign(V.data(), V.data() + size_t(N) * N);
+    ModalTable modes;
+    for (int k2 = 0; k2 < N; ++k2)
+    {
+        const double w = std::sqrt(eigen.eigenvalues()(k2));
+        double sigma = 0.0;
+        for (int p = 0; p < N; ++p)
+            sigma += V(p, k2) * V(p, k2) * c.modes.sigma[size_t(p)];
+        modes.omega.push_back(w);
+        modes.frequencyHz.push_back(w / (2.0 * std::numbers::pi));
+        modes.sigma.push_back(sigma);
+    }
+    c.modes = modes;
+    auto carry = [&](std::vector<double>& v) {
+        if (v.empty())
+            return;
+        const Eigen::VectorXd moved = V.transpose() * Eigen::Map<const Eigen::VectorXd>(v.data(), N);
+        v.assign(moved.data(), moved.data() + N);
+    };
+    for (size_t j = 0; j < c.contacts.size(); ++j)
+    {
+        std::vector<double> row(c.contactShapes.begin() + long(j) * N, c.contactShapes.begin() + long(j + 1) * N);
+        carry(row);
+        std::copy(row.begin(), row.end(), c.contactShapes.begin() + long(j) * N);
+    }
+    carry(c.pickupWeights);
+    carry(c.secondPickupWeights);
+    carry(c.excitationShape);
+    return out;
+}
+
+std::vector<double> CoupledModes::fromPolarisations(const std::vector<double>& q) const
+{
+    const int N = static_cast<int>(q.size());
+    if (basis.size() != size_t(N) * N)
+        throw std::invalid_argument("the state has the wrong number of modes for these coupled modes");
+    const Eigen::Map<const Eigen::MatrixXd> V(basis.data(), N, N);
+    const Eigen::VectorXd moved = V.transpose() * Eigen::Map<const Eigen::VectorXd>(q.data(), N);
+    return {moved.data(), moved.data() + N};
 }
 
 double modeRangeEnergy(ModalSolver& solver, int first, int count)

@@ -40,6 +40,23 @@ struct SecondPolarisation
 // projection path, without a residual compliance: other configurations are refused.
 ModalSolverConfig twoPolarisationConfig(const ModalSolverConfig& vertical, const SecondPolarisation& second);
 
+// The same string with the coupling spring folded into its modes: the 2M normal modes of the
+// coupled linear string, the eigenvectors V of Omega^2 + (K/mu) r r^T (r = d . phi(x_c) over both
+// polarisations' modes). Without losses it is the same string, its spring's energy inside the
+// modes' own; each mode takes the damping its shape averages, sigma'_k = sum_p V_pk^2 sigma_p, and
+// the damping's cross terms between the new modes are dropped (an approximation with losses, as
+// any modal damping is). The obstacles' rows, the pickups and the excitation are carried into the
+// new modes (V^T times each): a tanpura's one point keeps the solver's two-step pass. OFF (an
+// eigenproblem of size 2M).
+struct CoupledModes
+{
+    ModalSolverConfig config;
+    std::vector<double> basis;  // V, 2M x 2M, column k the new mode k in the polarisations' modes
+    // q' = V^T q: a state in the polarisations' modes (2M values) in the new ones.
+    std::vector<double> fromPolarisations(const std::vector<double>& q) const;
+};
+CoupledModes coupledModesConfig(const ModalSolverConfig& vertical, const SecondPolarisation& second);
+
 // The energy of modes [first, first + count) from the solver's state (J): one polarisation's
 // share of the string energy (ModalSolver::stringEnergy sums every mode).
 double modeRangeEnergy(ModalSolver& solver, int first, int count);
