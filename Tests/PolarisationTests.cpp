@@ -296,7 +296,33 @@ TEST_CASE("Scenes refuse a second polarisation they cannot play, naming the fiel
     refuses(tanpuraScene(R"({"coupling": {"position": 0.9, "stiffness": -5}})"),
             "second_polarisation.coupling.stiffness: must be >= 0");
     refuses(tanpuraScene(R"({"spin": 1})"), "second_polarisation.spin: unknown field");
-    auto voice = tanpuraScene(R"({"detuning": 0.001})");
-    voice.replace(voice.find("\"reference\""), 11, "\"realtime\"");
-    refuses(voice, "second_polarisation: takes the reference method");
+}
+
+#include "offline/Analysis.h"
+
+TEST_CASE("The voice plays two polarisations, its coupling in its modes, close to the reference's spring",
+          "[polarisations]")
+{
+    // The tanpura's point, a pluck 0.3 rad out of the vertical, the polarisations coupled at the far
+    // end: the reference (the spring as contact points, 2 x 400 modes at 1 MHz) against the voice
+    // (the spring in its modes, the quality it chooses, the quadratic spline on the point).
+    const std::string second = R"({"detuning": 0.001, "damping_scale": 1.5,
+                                   "coupling": {"position": 0.99, "angle": 0.5, "stiffness": 2e4}})";
+    auto scene = parseScene(tanpuraScene(second, "0.3"));
+    scene.simulation.modes = 400;
+    scene.simulation.rateHz = 1e6;
+    scene.simulation.durationSeconds = 0.5;
+    const auto reference = renderScene(scene);
+    auto voiceScene = scene;
+    voiceScene.simulation.reference = false;
+    voiceScene.simulation.contact = ContactMethod::quadraticSpline;
+    voiceScene.simulation.modes.reset();
+    voiceScene.simulation.rateHz.reset();
+    const auto voice = renderScene(voiceScene);
+    REQUIRE(voice.output.size() == reference.output.size());
+    const double lsd = logSpectralDistance(voice.output, reference.output, 48000.0);
+    const double rel = relativeL2(voice.output, reference.output, voice.output.size());
+    INFO("voice: " << voice.stats.modes << " modes at " << voice.stats.internalRateHz << " Hz; LSD " << lsd
+                   << " dB, relL2 " << rel);
+    CHECK(lsd < 3.0);
 }

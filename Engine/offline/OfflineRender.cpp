@@ -122,6 +122,7 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     if (scene.simulation.contact == ContactMethod::energyConserving)
         v.reach = [scene](double x) { return reachAt(scene, x); };
     v.method = scene.simulation.contact;
+    v.secondPolarisation = scene.secondPolarisation;
     return v;
 }
 

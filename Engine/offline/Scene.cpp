@@ -392,9 +392,6 @@ void validateScene(const Scene& scene)
         throw SceneError("excitation.angle", "turns the pluck out of the vertical: it needs a second_polarisation");
     if (const auto& second = scene.secondPolarisation)
     {
-        if (!sim.reference)
-            throw SceneError("second_polarisation", "takes the reference method (\"method\": \"reference\"); the "
-                                                    "voice's methods play one polarisation");
         if (second->coupling.stiffness > 0.0)
             requireOnString("second_polarisation.coupling.position", second->coupling.position, L);
     }

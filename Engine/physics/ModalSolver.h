@@ -54,6 +54,10 @@ struct ModalSolverConfig
     std::optional<double> excitationPosition;
     // The force's shape over the modes (M values) when not the sine modes' phi_p(excitationPosition).
     std::vector<double> excitationShape;
+    // How a shape of the string, given in one polarisation's sine modes (m values: a pluck), sits in
+    // these modes: M x m row-major, q = B q_shape (both polarisations: Polarisations.h). Empty: the
+    // modes are the sine modes (m = M, B = I). The solver does not use it; the voice plucks with it.
+    std::vector<double> shapeToModes;
     // Extra damping (1/s, every mode) of the second coefficient set, selected by setReleased().
     double releaseSigma = 0.0;
     // Residual compliance (ResidualCompliance.h), P x P row-major, m/N: C_ij = sum over the dropped

@@ -76,6 +76,13 @@ ModalSolverConfig twoPolarisationConfig(const ModalSolverConfig& vertical, const
                 c.contactShapes.push_back(sign * v);
         }
     }
+    // A pluck's shape: cos of it in the vertical, sin in the horizontal.
+    c.shapeToModes.assign(size_t(2 * M) * M, 0.0);
+    for (int p = 0; p < M; ++p)
+    {
+        c.shapeToModes[size_t(p) * M + p] = std::cos(second.excitationAngle);
+        c.shapeToModes[size_t(M + p) * M + p] = std::sin(second.excitationAngle);
+    }
     c.pickupWeights = overBoth(vertical.pickupWeights, 1.0, 0.0);
     if (!vertical.secondPickupWeights.empty())
         c.secondPickupWeights = overBoth(vertical.secondPickupWeights, 1.0, 0.0);
@@ -139,6 +146,11 @@ CoupledModes coupledModesConfig(const ModalSolverConfig& vertical, const SecondP
     carry(c.pickupWeights);
     carry(c.secondPickupWeights);
     carry(c.excitationShape);
+    const int m = M;  // the shapes' sine modes: B' = V^T B
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> B(
+        c.shapeToModes.data(), N, m);
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> moved = V.transpose() * B;
+    c.shapeToModes.assign(moved.data(), moved.data() + size_t(N) * m);
     return out;
 }
 

@@ -4,9 +4,32 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 
 namespace jawari
 {
+
+namespace
+{
+// The sine modes a pluck's shape is given in, and that shape in the solver's modes
+// (ModalSolverConfig::shapeToModes).
+int shapeModes(const ModalSolverConfig& c)
+{
+    return c.shapeToModes.empty() ? c.modes.size() : static_cast<int>(c.shapeToModes.size()) / c.modes.size();
+}
+
+std::vector<double> shapeInModes(const ModalSolverConfig& c, const std::vector<double>& shape)
+{
+    if (c.shapeToModes.empty())
+        return shape;
+    const int N = c.modes.size(), m = static_cast<int>(shape.size());
+    std::vector<double> q(static_cast<size_t>(N), 0.0);
+    for (int k = 0; k < N; ++k)
+        for (int p = 0; p < m; ++p)
+            q[size_t(k)] += c.shapeToModes[size_t(k) * m + p] * shape[size_t(p)];
+    return q;
+}
+}  // namespace
 
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
 {
@@ -42,6 +65,15 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
     c.keepEveryMode = config.keepEveryMode;
+    if (config.secondPolarisation)
+    {
+        // The dropped modes' compliance at the obstacles' points stays what it is: the spring acts
+        // on the kept modes only, and the compliance is between point forces and displacements.
+        const auto compliance = std::move(c.contactCompliance);
+        c.contactCompliance.clear();
+        c = coupledModesConfig(c, *config.secondPolarisation).config;
+        c.contactCompliance = compliance;
+    }
     return c;
 }
 
@@ -62,8 +94,11 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
     omegaScratch_.assign(baseOmega_.size(), 0.0);
     for (int j = 0; j < solver_.contactCount(); ++j)
         baseHeights_.push_back(solver_.contact(j).height);
-    unitPluck_ = pluckModalShape(config.string.lengthMetres, solver_.modeCount(), config.excitationPosition, 1.0);
+    unitPluck_ = shapeInModes(solverConfig, pluckModalShape(config.string.lengthMetres, shapeModes(solverConfig),
+                                                            config.excitationPosition, 1.0));
     pluckScratch_.assign(unitPluck_.size(), 0.0);
+    excitationPosition_ = config.excitationPosition;
+    shapesMapped_ = !solverConfig.shapeToModes.empty();
     block_.assign(oversampling_, 0.0);
     lengthMetres_ = config.string.lengthMetres;
     pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));
@@ -75,7 +110,18 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
 
 void Voice::setInitialShape(double position, double amplitudeMetres)
 {
-    solver_.setInitialDisplacement(pluckModalShape(lengthMetres_, solver_.modeCount(), position, amplitudeMetres));
+    if (!shapesMapped_)
+        solver_.setInitialDisplacement(pluckModalShape(lengthMetres_, solver_.modeCount(), position, amplitudeMetres));
+    else
+    {
+        // Two polarisations: unitPluck_ is the shape at the excitation point in the solver's modes.
+        if (position != excitationPosition_)
+            throw std::invalid_argument("a voice of two polarisations starts from its own excitation point only");
+        std::vector<double> shape = unitPluck_;
+        for (auto& q : shape)
+            q *= amplitudeMetres;
+        solver_.setInitialDisplacement(shape);
+    }
     first_ = true;
     decimator_.reset();
     primeDecimator_ = quantity_ != PickupQuantity::velocity;  // a held string's velocity is 0: the reset history

@@ -8,6 +8,7 @@
 
 #include "physics/ModalSolver.h"
 #include "physics/Obstacle.h"
+#include "physics/Polarisations.h"
 #include "physics/StringDiscretisation.h"
 #include "physics/StringModel.h"
 #include "realtime/Decimator.h"
@@ -41,6 +42,10 @@ struct VoiceConfig
     ContactMethod method = ContactMethod::energyConserving;
     // Step every mode (see ModalSolverConfig::keepEveryMode): the plugin's voices.
     bool keepEveryMode = false;
+    // The string's second polarisation, its coupling folded into the modes (coupledModesConfig):
+    // 2M modes. The obstacles act on the vertical, the pickups read it, the plucks push along the
+    // excitation angle. Empty: one polarisation.
+    std::optional<SecondPolarisation> secondPolarisation;
     // How far the string can ever move at x (m), when known (a scene plucked once: reachAt in
     // Quality.h): contact points with g + reach <= 0 are left out. Empty: every point is kept.
     std::function<double(double)> reach;
@@ -168,6 +173,8 @@ private:
     double ratio_ = 1.0;
     std::vector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
     std::vector<double> unitPluck_, pluckScratch_;  // the 1 m triangular pluck's modal shape
+    double excitationPosition_ = 0.0;
+    bool shapesMapped_ = false;  // the solver's modes are not the sine modes (two polarisations)
 };
 
 // The voice's solver: stringSolverConfig plus the excitation point, the release damping, the
