@@ -243,6 +243,8 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     // Off by default: a second core only helps where the host leaves one free (StringWorker.h).
     layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::secondCore, 1}, "Use a second core",
                                                           false));
+    // The string's horizontal polarisation too (docs/design.md section 1): 1 or 2.
+    layout.add(choice(ids::polarisations, "Polarisations", juce::StringArray{"1", "2"}, 0));
     return layout;
 }
 
@@ -270,6 +272,7 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
     s.releaseSeconds = get(ids::release);
     s.quality = rounded(get(ids::quality));
     s.method = kContactMethods[size_t(std::clamp(rounded(get(ids::method)), 0, lastMethod))].method;
+    s.polarisations = rounded(get(ids::polarisations)) >= 1 ? 2 : 1;
     s.hostRateHz = hostRateHz;
     return s;
 }

@@ -54,6 +54,7 @@ inline constexpr const char* mpe = "mpe";
 inline constexpr const char* stereoWidth = "stereoWidth";
 inline constexpr const char* mpeBendRange = "mpeBendRange";
 inline constexpr const char* secondCore = "secondCore";
+inline constexpr const char* polarisations = "polarisations";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -92,7 +93,8 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::mpe,
                                                 ids::mpeBendRange,
                                                 ids::stereoWidth,
-                                                ids::secondCore};
+                                                ids::secondCore,
+                                                ids::polarisations};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

@@ -102,6 +102,9 @@ const ControlSpec kControls[] = {
      "quadratised (no iteration), penalty (explicit, cheapest; unstable on hard obstacles) or quadratic spline "
      "(the paper's scheme on a contact force within 1 % of the law, solved without iteration; a bridge's or "
      "the frets' several points take the energy-conserving method)."},
+    {"String", ids::polarisations, "Polarisations",
+     "1: the string moves in the vertical only. 2: its horizontal polarisation too, coupled to the vertical near the "
+     "far end by a tilted spring, so the string's motion turns and beats as a real string's does."},
     {"Quality", ids::secondCore, "2nd core",
      "Steps half the sounding strings on a second core, beside the host's audio thread: for high quality or many "
      "strings where one core is not enough. The sound is the same to the last bit; off, everything runs on the "

@@ -373,3 +373,43 @@ TEST_CASE("The instrument counts what it did: notes from rest, pulses, drone plu
     CHECK(second.dronePlucks >= 4);
     CHECK(second.packsInstalled == 0);
 }
+
+TEST_CASE("With two polarisations the instrument plays in tune on the tanpura's point, and draws its vertical",
+          "[instrument]")
+{
+    auto one = test::scriptStructure(ObstacleShape::point);
+    auto two = one;
+    two.polarisations = 2;
+    auto packOne = buildVoicePack(one), packTwo = buildVoicePack(two);
+    CHECK(packTwo->modes == 2 * packOne->modes);
+    std::vector<double> outputs[2];
+    InstrumentSnapshot snapshots[2];
+    for (int k = 0; k < 2; ++k)
+    {
+        Instrument instrument;
+        instrument.install(k == 0 ? packOne.get() : packTwo.get(), nullptr);
+        instrument.setControls(InstrumentControls{});
+        instrument.settleControls();
+        instrument.noteOn(57, 0.8);
+        outputs[k] = play(instrument, 1.0);
+        REQUIRE(instrument.snapshots().read(snapshots[k]));
+        CHECK(instrument.blowUps() == 0);
+    }
+    // The pitch one polarisation plays on this point (its contact raises it a little).
+    const double f1 = peakFrequency(outputs[0], 48000.0, 180.0, 260.0, 4800);
+    const double f2 = peakFrequency(outputs[1], 48000.0, 180.0, 260.0, 4800);
+    INFO("A3: " << f1 << " Hz with one polarisation, " << f2 << " Hz with two");
+    CHECK(std::abs(f2 / f1 - 1.0) < 1e-3);
+    // The same pluck in the vertical: the two strings start alike and part as the coupling acts.
+    const double early = relativeL2(outputs[1], outputs[0], 480), late = relativeL2(outputs[1], outputs[0], 48000);
+    INFO("relative distance to one polarisation: " << early << " over 10 ms, " << late << " over 1 s");
+    CHECK(early < 0.1);
+    CHECK(late > 2.0 * early);
+    // The editor's string: the vertical's shape, as large as one polarisation's.
+    double most[2] = {0.0, 0.0};
+    for (int k = 0; k < 2; ++k)
+        for (float u : snapshots[k].shape)
+            most[k] = std::max(most[k], double(std::abs(u)));
+    CHECK(most[1] > 0.2 * most[0]);
+    CHECK(most[1] < 5.0 * most[0]);
+}

@@ -25,6 +25,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace jawari
@@ -70,6 +71,9 @@ struct InstrumentStructure
     ContactMethod method = ContactMethod::quadraticSpline;
     double releaseSeconds = 0.4;
     double hostRateHz = 48000.0;
+    // 1, or 2: each string's horizontal polarisation too, coupled near the far end
+    // (instrumentSecondPolarisation; docs/design.md section 1, "Two polarisations").
+    int polarisations = 1;
 
     bool operator==(const InstrumentStructure&) const = default;
 };
@@ -118,6 +122,11 @@ double dampingCurveAt(const std::array<double, kDampingCurvePoints>& curve, doub
 // The obstacles an InstrumentStructure stands for, at a given height offset. OFF.
 std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const ContactLaw& law, double height);
 StringParameters instrumentString(const InstrumentStructure& s);
+// The second polarisation of a structure with two (else none): detuned by 1e-3, damped alike,
+// plucked in the vertical, and coupled 1 cm from the far end by a spring tilted 30 degrees, a tenth
+// as stiff as the string itself is there (0.1 T / 1 cm: it raises the vertical's pitch by about
+// 0.1 %, which the tuning takes out).
+std::optional<SecondPolarisation> instrumentSecondPolarisation(const InstrumentStructure& s);
 // M and the oversampling of the structure's quality at its host rate.
 VoiceQuality instrumentQuality(const InstrumentStructure& s);
 

@@ -23,6 +23,43 @@ double secondPickupFraction(double pickup)
     const double x = clampFraction(pickup);
     return std::clamp(x > 0.5 ? x - kSecondPickupOffset : x + kSecondPickupOffset, 0.02, 0.98);
 }
+
+// The frequency the notes tune: mode 1's, or with two polarisations that of the coupled mode most
+// like the vertical's first (the largest share of it in the vertical pluck's map).
+double verticalFundamentalHz(const ModalSolverConfig& c, int M)
+{
+    if (c.shapeToModes.empty())
+        return c.modes.frequencyHz.front();
+    int best = 0;
+    for (int k = 1; k < c.modes.size(); ++k)
+        if (std::abs(c.shapeToModes[size_t(k) * M]) > std::abs(c.shapeToModes[size_t(best) * M]))
+            best = k;
+    return c.modes.frequencyHz[size_t(best)];
+}
+
+// What the editor draws, the vertical displacement at kDrawPoints points, per solver mode: phi_p(x),
+// or with two polarisations each coupled mode's vertical shape, sum_p B_kp phi_p(x) (B the
+// vertical pluck's map into the modes, shapeToModes: the vertical part of the modes' basis).
+std::vector<double> drawingShapes(const ModalSolverConfig& c, double L, int M)
+{
+    const int N = c.modes.size();
+    std::vector<double> shapes(size_t(kDrawPoints) * N, 0.0);
+    std::vector<double> phi(static_cast<size_t>(M));
+    for (int k = 0; k < kDrawPoints; ++k)
+    {
+        const double x = L * k / (kDrawPoints - 1);
+        for (int p = 0; p < M; ++p)
+            phi[size_t(p)] = modeShape(L, p + 1, x);
+        double* row = shapes.data() + size_t(k) * N;
+        if (c.shapeToModes.empty())
+            std::copy(phi.begin(), phi.end(), row);
+        else
+            for (int j = 0; j < N; ++j)
+                for (int p = 0; p < M; ++p)
+                    row[j] += c.shapeToModes[size_t(j) * M + p] * phi[size_t(p)];
+    }
+    return shapes;
+}
 }  // namespace
 
 StringParameters instrumentString(const InstrumentStructure& s)
@@ -36,6 +73,17 @@ StringParameters instrumentString(const InstrumentStructure& s)
     p.tensionNewtons = type.linearDensity * c * c;
     p.inharmonicity = std::max(0.0, s.inharmonicity);
     return p;
+}
+
+std::optional<SecondPolarisation> instrumentSecondPolarisation(const InstrumentStructure& s)
+{
+    if (s.polarisations < 2)
+        return std::nullopt;
+    const auto string = instrumentString(s);
+    SecondPolarisation second;
+    second.detuning = 1e-3;
+    second.coupling = {string.lengthMetres - 0.01, std::numbers::pi / 6, 0.1 * string.tensionNewtons / 0.01};
+    return second;
 }
 
 std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const ContactLaw& law, double height)
@@ -103,20 +151,17 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
                         ? ContactMethod::energyConserving
                         : structure.method;
     config.keepEveryMode = true;
+    config.secondPolarisation = instrumentSecondPolarisation(structure);
     const ModalSolverConfig solverConfig = voiceSolverConfig(config);
     for (int i = 0; i < kSlots; ++i)
         pack->voices.push_back(std::make_unique<Voice>(config, solverConfig));
-    pack->modes = quality.modes;
-    pack->baseFundamentalHz = solverConfig.modes.frequencyHz.front();
-    pack->sigma.assign(size_t(kSlots) * quality.modes, 0.0);
-    pack->drawShapes.resize(size_t(kDrawPoints) * quality.modes);
+    // The solver's modes: M, or 2M with two polarisations (the coupled string's modes).
+    const int N = solverConfig.modes.size();
+    pack->modes = N;
+    pack->baseFundamentalHz = verticalFundamentalHz(solverConfig, quality.modes);
+    pack->sigma.assign(size_t(kSlots) * N, 0.0);
+    pack->drawShapes = drawingShapes(solverConfig, L, quality.modes);
     pack->drawObstacle.assign(kDrawPoints, std::numeric_limits<double>::quiet_NaN());
-    for (int k = 0; k < kDrawPoints; ++k)
-    {
-        const double x = L * k / (kDrawPoints - 1);
-        for (int p = 1; p <= quality.modes; ++p)
-            pack->drawShapes[size_t(k) * quality.modes + p - 1] = modeShape(L, p, x);
-    }
     for (const auto& o : config.obstacles)
     {
         if (o.isDistributed())

@@ -13,6 +13,7 @@
 //               [--csv FILE]      (appends one line of the figures to FILE)
 //               [--second-core 0|1] (the plugin's "use a second core"; default 0. With it the audio
 //                                  thread's CPU time leaves out the worker's: read the wall time)
+//               [--polarisations 1|2] (the strings' polarisations; default 1)
 
 #include "BlockLoad.h"
 #include "offline/CpuClock.h"
@@ -33,11 +34,11 @@ int main(int argc, char* argv[])
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
     double replay = 0.0;
-    int block = 512, quality = 1, polyphony = 0, drone = 1, secondCore = 0;
+    int block = 512, quality = 1, polyphony = 0, drone = 1, secondCore = 0, polarisations = 1;
     std::string preset = "Tanpura drone", csv;
     const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
                         "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME] [--replay S] [--csv FILE] "
-                        "[--second-core 0|1]\n";
+                        "[--second-core 0|1] [--polarisations 1|2]\n";
     for (int i = 1; i < argc; i += 2)
     {
         const std::string key = argv[i];
@@ -72,6 +73,8 @@ int main(int argc, char* argv[])
                 drone = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--second-core")
                 secondCore = std::stoi(value) != 0 ? 1 : 0;
+            else if (key == "--polarisations" && (value == "1" || value == "2"))
+                polarisations = std::stoi(value);
             else if (key == "--quality" && (value == "draft" || value == "standard" || value == "high"))
                 quality = value == "draft" ? 0 : value == "high" ? 2 : 1;
             else
@@ -108,6 +111,7 @@ int main(int argc, char* argv[])
     set(jawari::plugin::ids::quality, float(quality));
     set(jawari::plugin::ids::drone, float(drone));
     set(jawari::plugin::ids::secondCore, float(secondCore));
+    set(jawari::plugin::ids::polarisations, float(polarisations - 1));
     p.prepareToPlay(rate, block);
     juce::AudioBuffer<float> buffer(2, block);
     const long blocks = std::lround(minutes * 60.0 * rate / block);
@@ -163,14 +167,14 @@ int main(int argc, char* argv[])
     }
     const auto* pack = p.instrument().pack();
     std::printf("\njawari-soak: %.1f minutes of preset '%s', %s (%s quality, %d modes x%d, %d contact points, %.0f "
-                "Hz, %d-sample blocks, %d held notes%s)\n",
+                "Hz, %d-sample blocks, %d held notes%s%s)\n",
                 minutes, jawari::plugin::factoryPresets()[size_t(presetIndex)].name,
                 drone != 0 ? "drone on" : "drone off",
                 quality == 0   ? "draft"
                 : quality == 2 ? "high"
                                : "standard",
                 pack->modes, pack->voices[0]->oversampling(), pack->voices[0]->contactPoints(), rate, block,
-                polyphony, secondCore != 0 ? ", a second core" : "");
+                polyphony, secondCore != 0 ? ", a second core" : "", polarisations == 2 ? ", two polarisations" : "");
     if (secondCore != 0)
         std::printf("  the second core stepped %ld string chunks; %ld taken back late\n", workerStrings, workerRevoked);
     std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
