@@ -143,7 +143,7 @@ void StringView::paint(juce::Graphics& g)
     float peak = 0.0f;
     for (int k = 0; k < kDrawPoints; ++k)
     {
-        peak = std::max(peak, std::abs(snapshot_.shape[size_t(k)]));
+        peak = std::max({peak, std::abs(snapshot_.shape[size_t(k)]), std::abs(snapshot_.horizontal[size_t(k)])});
         if (std::isfinite(snapshot_.obstacle[size_t(k)]))
             peak = std::max(peak, std::abs(snapshot_.obstacle[size_t(k)]));
     }
@@ -161,20 +161,30 @@ void StringView::paint(juce::Graphics& g)
         const float y = toY(h);
         g.fillRect(juce::Rectangle<float>(toX(k) - 3.0f, y, 6.0f, area.getBottom() - y));
     }
-    juce::Path path;
-    for (int k = 0; k < kDrawPoints; ++k)
+    auto trace = [&](const std::array<float, kDrawPoints>& u) {
+        juce::Path path;
+        for (int k = 0; k < kDrawPoints; ++k)
+        {
+            const float y = toY(u[size_t(k)]);
+            if (k == 0)
+                path.startNewSubPath(toX(k), y);
+            else
+                path.lineTo(toX(k), y);
+        }
+        return path;
+    };
+    if (snapshot_.twoPolarisations)
     {
-        const float y = toY(snapshot_.shape[size_t(k)]);
-        if (k == 0)
-            path.startNewSubPath(toX(k), y);
-        else
-            path.lineTo(toX(k), y);
+        // The horizontal polarisation, seen from above, faint behind the vertical.
+        g.setColour(kString.withAlpha(0.4f));
+        g.strokePath(trace(snapshot_.horizontal), juce::PathStrokeType(1.5f));
     }
     g.setColour(kString);
-    g.strokePath(path, juce::PathStrokeType(2.0f));
+    g.strokePath(trace(snapshot_.shape), juce::PathStrokeType(2.0f));
     g.setColour(kText);
     g.setFont(13.0f);
-    g.drawText("string (full height " + juce::String(scale_ * 1e3f, 3) + " mm)", area.toNearestInt(),
+    const juce::String what = snapshot_.twoPolarisations ? "string: vertical, horizontal faint" : "string";
+    g.drawText(what + " (full height " + juce::String(scale_ * 1e3f, 3) + " mm)", area.toNearestInt(),
                juce::Justification::topLeft);
 }
 

@@ -405,11 +405,22 @@ TEST_CASE("With two polarisations the instrument plays in tune on the tanpura's 
     INFO("relative distance to one polarisation: " << early << " over 10 ms, " << late << " over 1 s");
     CHECK(early < 0.1);
     CHECK(late > 2.0 * early);
-    // The editor's string: the vertical's shape, as large as one polarisation's.
-    double most[2] = {0.0, 0.0};
+    // The editor's string: the vertical's shape, as large as one polarisation's, and the
+    // horizontal's, which the coupling has set moving (with one polarisation: none). The horizontal
+    // touches no obstacle, so it keeps what it takes: after 1 s about as much as the vertical.
+    double most[2] = {0.0, 0.0}, across[2] = {0.0, 0.0};
     for (int k = 0; k < 2; ++k)
-        for (float u : snapshots[k].shape)
-            most[k] = std::max(most[k], double(std::abs(u)));
+        for (int i = 0; i < kDrawPoints; ++i)
+        {
+            most[k] = std::max(most[k], double(std::abs(snapshots[k].shape[size_t(i)])));
+            across[k] = std::max(across[k], double(std::abs(snapshots[k].horizontal[size_t(i)])));
+        }
+    INFO("largest drawn: vertical " << most[0] << " m with one polarisation; vertical " << most[1]
+                                    << " m and horizontal " << across[1] << " m with two");
     CHECK(most[1] > 0.2 * most[0]);
     CHECK(most[1] < 5.0 * most[0]);
+    CHECK_FALSE(snapshots[0].twoPolarisations);
+    CHECK(across[0] == 0.0);
+    CHECK(snapshots[1].twoPolarisations);
+    CHECK(across[1] > 1e-3 * most[1]);  // after 1 s the motion has turned: as large as the vertical's
 }

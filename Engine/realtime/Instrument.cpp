@@ -354,12 +354,20 @@ void Instrument::publishSnapshot()
             loudest = i;
         }
     }
-    std::array<double, kDrawPoints> u{};
+    std::array<double, kDrawPoints> u{}, h{};
+    const bool two = !pack_->drawHorizontal.empty();
     if (loudest >= 0)
-        pack_->voices[size_t(loudest)]->solver().displacementAt(pack_->drawShapes.data(), kDrawPoints, u.data());
+    {
+        auto& solver = pack_->voices[size_t(loudest)]->solver();
+        solver.displacementAt(pack_->drawShapes.data(), kDrawPoints, u.data());
+        if (two)
+            solver.displacementAt(pack_->drawHorizontal.data(), kDrawPoints, h.data());
+    }
+    snap.twoPolarisations = two;
     for (int k = 0; k < kDrawPoints; ++k)
     {
         snap.shape[size_t(k)] = static_cast<float>(u[size_t(k)]);
+        snap.horizontal[size_t(k)] = static_cast<float>(h[size_t(k)]);
         snap.obstacle[size_t(k)] = static_cast<float>(pack_->drawObstacle[size_t(k)] + current_.obstacleHeight);
     }
     snap.energy = static_cast<float>(total);

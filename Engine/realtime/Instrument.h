@@ -157,7 +157,8 @@ struct VoicePack
     double baseFundamentalHz = 0.0;              // mode 1 of the built string
     std::vector<std::unique_ptr<Voice>> voices;  // kSlots
     std::vector<double> sigma;                   // kSlots x M: scratch for retunes
-    std::vector<double> drawShapes;              // kDrawPoints x M: phi_p at the drawing points
+    std::vector<double> drawShapes;              // kDrawPoints x M: phi_p at the drawing points (the vertical)
+    std::vector<double> drawHorizontal;          // the same for the horizontal polarisation; empty with one
     std::vector<double> drawObstacle;            // kDrawPoints: obstacle height at height 0, or NaN
     int modes = 0;
     int latencySamples = 0;
@@ -188,7 +189,9 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure);
 // What the editor draws, published by the audio thread without locks (SnapshotBuffer).
 struct InstrumentSnapshot
 {
-    std::array<float, kDrawPoints> shape{};     // the loudest string's displacement (m)
+    std::array<float, kDrawPoints> shape{};     // the loudest string's displacement (m): its vertical
+    std::array<float, kDrawPoints> horizontal{};  // its horizontal polarisation's (m), 0 with one
+    bool twoPolarisations = false;
     std::array<float, kDrawPoints> obstacle{};  // obstacle height (m) or NaN where none
     float energy = 0.0f;                        // J, all strings
     float penetration = 0.0f;                   // deepest penetration this chunk (m)

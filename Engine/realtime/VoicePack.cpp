@@ -161,6 +161,13 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     pack->baseFundamentalHz = verticalFundamentalHz(solverConfig, quality.modes);
     pack->sigma.assign(size_t(kSlots) * N, 0.0);
     pack->drawShapes = drawingShapes(solverConfig, L, quality.modes);
+    if (config.secondPolarisation)
+    {
+        // The horizontal's shapes: the same modes' map of a pluck along the horizontal.
+        auto horizontal = config;
+        horizontal.secondPolarisation->excitationAngle = std::numbers::pi / 2;
+        pack->drawHorizontal = drawingShapes(voiceSolverConfig(horizontal), L, quality.modes);
+    }
     pack->drawObstacle.assign(kDrawPoints, std::numeric_limits<double>::quiet_NaN());
     for (const auto& o : config.obstacles)
     {

@@ -1,6 +1,6 @@
 // jawari-editor-snapshot: the editor as the standalone app and the plugin show it, drawn offline
 // while the tanpura drone plays (no window, no audio device needed), written as a PNG.
-//   jawari-editor-snapshot OUT.png [seconds of drone before the picture, default 2.3]
+//   jawari-editor-snapshot OUT.png [seconds of drone before the picture, default 2.3] [polarisations, 1 or 2]
 
 #include "PluginEditor.h"
 #include "PluginProcessor.h"
@@ -16,13 +16,15 @@ int main(int argc, char* argv[])
 {
     if (argc < 2)
     {
-        std::fprintf(stderr, "usage: jawari-editor-snapshot OUT.png [seconds]\n");
+        std::fprintf(stderr, "usage: jawari-editor-snapshot OUT.png [seconds] [polarisations]\n");
         return 2;
     }
     juce::ScopedJuceInitialiser_GUI juce;
     const double seconds = argc > 2 ? std::stod(argv[2]) : 2.3;
     jawari::plugin::JawariAudioProcessor p;
     p.setCurrentProgram(jawari::plugin::factoryPresetIndex("Tanpura drone"));
+    if (argc > 3 && std::string(argv[3]) == "2")
+        p.parameters().getParameter(jawari::plugin::ids::polarisations)->setValueNotifyingHost(1.0f);
     p.prepareToPlay(48000.0, 512);
     std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
     auto* jawariEditor = dynamic_cast<jawari::plugin::JawariEditor*>(editor.get());
