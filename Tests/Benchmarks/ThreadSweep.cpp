@@ -1,0 +1,96 @@
+// jawari-thread-sweep: how the tanpura's sound moves with its thread, with one polarisation and
+// with two (docs/measurements.md, "The thread's position, explored"). Measures and reports.
+//
+//   jawari-thread-sweep [--reference]   (the voice at its automatic quality; or a reference of
+//                                        600 modes per polarisation at 1 MHz)
+//
+// The paper's tanpura string over a parabolic bridge on [0, 10 mm] (apex at 5 mm, curvature
+// 20 /m). A thread of diameter 0.2 mm lies across it at x_t; the string rests on the thread (its
+// top at the string's rest line), so the bridge lies 0.2 mm below the string there, and the
+// bridge's apex is closer to the string the further the thread is from it. The thread is a point
+// obstacle of weight 0.2 mm. For each x_t: the spectral centroid above the 10th partial over the
+// first second, and at 0.05 s and 0.9 s.
+
+#include "offline/Analysis.h"
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
+
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+#include <string>
+
+using namespace jawari;
+
+namespace
+{
+constexpr double kCurvature = 20.0, kThread = 0.2e-3, kApex = 0.005;
+
+Scene sweepScene(double threadAt, int polarisations, bool reference)
+{
+    Scene s = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/paper-tanpura.json");
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = kApex;
+    bridge.width = 2.0 * kApex;
+    bridge.curvature = kCurvature;
+    bridge.height = -kThread + 0.5 * kCurvature * (threadAt - kApex) * (threadAt - kApex);
+    bridge.law = {1e13, 1.3};
+    Obstacle thread;
+    thread.type = ObstacleType::point;
+    thread.position = threadAt;
+    thread.width = kThread;
+    thread.height = bridge.heightAt(threadAt) + kThread;  // 0: the string rests on it
+    thread.law = {1e13, 1.3};
+    s.obstacles = {bridge, thread};
+    if (reference)
+    {
+        s.simulation.modes = 600;
+        s.simulation.rateHz = 1e6;
+    }
+    else
+    {
+        s.simulation.reference = false;
+        s.simulation.contact = ContactMethod::energyConserving;
+        s.simulation.modes.reset();
+        s.simulation.rateHz.reset();
+    }
+    if (polarisations == 2)
+    {
+        // Coupled as the instrument couples them (InstrumentStructure::polarisations), the pluck
+        // 0.3 rad out of the vertical.
+        SecondPolarisation second;
+        second.detuning = 1e-3;
+        second.excitationAngle = 0.3;
+        second.coupling = {s.string.lengthMetres - 0.01, std::numbers::pi / 6, 0.1 * s.string.tensionNewtons / 0.01};
+        s.secondPolarisation = second;
+        s.excitation.angle = 0.3;
+    }
+    return s;
+}
+}  // namespace
+
+int main(int argc, char* argv[])
+{
+    const bool reference = argc > 1 && std::strcmp(argv[1], "--reference") == 0;
+    const double f0 = 195.998, band = 10.5 * f0;
+    for (const int polarisations : {1, 2})
+    {
+        std::printf("%d polarisation%s, %s\n", polarisations, polarisations == 1 ? "" : "s",
+                    reference ? "reference (600 modes each at 1 MHz)" : "the voice at its automatic quality");
+        double lowest = 1e9, highest = 0.0;
+        for (const double x : {0.001, 0.002, 0.003, 0.004, 0.005, 0.006, 0.008})
+        {
+            const auto y = renderScene(sweepScene(x, polarisations, reference)).output;
+            const double whole = spectralCentroid(y, 48000, 0, 48000, band, 20000);
+            lowest = std::min(lowest, whole);
+            highest = std::max(highest, whole);
+            std::printf("  thread at %.0f mm: centroid above the 10th partial %.0f Hz over the first second (%.0f Hz at "
+                        "0.05 s, %.0f Hz at 0.9 s)\n",
+                        x * 1e3, whole, spectralCentroid(y, 48000, 2400, 4800, band, 20000),
+                        spectralCentroid(y, 48000, 43200, 4800, band, 20000));
+        }
+        std::printf("  range over the sweep: %.0f Hz (%.0f to %.0f)\n", highest - lowest, lowest, highest);
+    }
+    return 0;
+}
