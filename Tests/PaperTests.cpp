@@ -51,10 +51,7 @@ TEST_CASE("paper-tanpura has a descending formant and decays faster than paper-c
     const auto& y = runs.tanpura.output;
     const double f0 = peakFrequency(runs.free.output, 48000, 150, 400);
     // Spectral centroid of the band above the 10th partial, early and late in the first second.
-    const size_t window = 4800;  // 100 ms
-    const double early = spectralCentroid(y, 48000, 4800, window, 10.5 * f0, 20000);
-    const double middle = spectralCentroid(y, 48000, 24000, window, 10.5 * f0, 20000);
-    const double late = spectralCentroid(y, 48000, 43200, window, 10.5 * f0, 20000);
+    const auto [early, middle, late] = test::bandCentroids(y, f0);
     INFO("centroid above the 10th partial: " << early << " Hz (0.1 s), " << middle << " Hz (0.5 s), " << late
                                              << " Hz (0.9 s)");
     CHECK(middle < early);

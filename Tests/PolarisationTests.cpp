@@ -345,11 +345,7 @@ TEST_CASE("With two polarisations the tanpura's band of overtones still falls as
     second.coupling = {scene.string.lengthMetres - 0.01, 0.5, 0.1 * scene.string.tensionNewtons / 0.01};
     scene.secondPolarisation = second;
     const auto y = renderScene(scene).output;
-    const double f0 = 195.998;
-    const size_t window = 4800;  // 100 ms
-    const double early = spectralCentroid(y, 48000, 4800, window, 10.5 * f0, 20000);
-    const double middle = spectralCentroid(y, 48000, 24000, window, 10.5 * f0, 20000);
-    const double late = spectralCentroid(y, 48000, 43200, window, 10.5 * f0, 20000);
+    const auto [early, middle, late] = test::bandCentroids(y, 195.998);
     INFO("centroid above the 10th partial: " << early << " Hz (0.1 s), " << middle << " Hz (0.5 s), " << late
                                              << " Hz (0.9 s)");
     CHECK(middle < early);
