@@ -7,6 +7,7 @@
 #include "physics/ModalSolver.h"
 #include "physics/Polarisations.h"
 #include "physics/StringDiscretisation.h"
+#include "realtime/Instrument.h"
 
 #include <catch2/catch.hpp>
 
@@ -351,4 +352,68 @@ TEST_CASE("With two polarisations the tanpura's band of overtones still falls as
     CHECK(middle < early);
     CHECK(late < middle);
     CHECK(late < 0.8 * early);
+}
+
+TEST_CASE("A thread laid across a bridge: the string rests on it, the bridge a diameter below, in scenes and in "
+          "the instrument",
+          "[polarisations]")
+{
+    // A parabola on [0, 10 mm], apex at 5 mm, 20 /m; a 0.2 mm thread 2 mm from its edge.
+    const auto scene = parseScene(R"({"format": "jawari-scene/1",
+        "obstacles": [{"type": "parabola", "position": 0.005, "width": 0.01, "curvature": 20, "height": 0.5},
+                      {"type": "thread", "bridge": 0, "offset": 0.002, "diameter": 0.0002, "stiffness": 1e12}],
+        "simulation": {"method": "realtime", "duration": 0.2}})");
+    REQUIRE(scene.obstacles.size() == 2);
+    const auto& bridge = scene.obstacles[0];
+    const auto& thread = scene.obstacles[1];
+    CHECK(thread.type == ObstacleType::point);
+    CHECK(thread.position == Approx(0.002));
+    CHECK(thread.height == 0.0);
+    CHECK(thread.width == Approx(2e-4));
+    CHECK(thread.law.stiffness == 1e12);
+    // The bridge's own height is replaced: at the thread its surface is the diameter down.
+    CHECK(bridge.heightAt(0.002) == Approx(-2e-4).margin(1e-12));
+    CHECK(bridge.height == Approx(-2e-4 + 0.5 * 20 * 0.003 * 0.003).margin(1e-12));
+    const auto y = renderScene(scene).output;
+    double peak = 0.0;
+    for (double v : y)
+        peak = std::max(peak, std::abs(v));
+    CHECK(std::isfinite(peak));
+    CHECK(peak > 1e-5);  // read near the far end (0.992 m)
+
+    auto refuses = [](const std::string& obstacles, const std::string& expected) {
+        const std::string text = R"({"format": "jawari-scene/1", "obstacles": )" + obstacles + "}";
+        INFO(text);
+        CHECK_THROWS_WITH(parseScene(text), Catch::Contains(expected));
+    };
+    const std::string parabola = R"({"type": "parabola", "position": 0.005, "width": 0.01, "curvature": 20})";
+    refuses(R"([{"type": "thread", "bridge": 0}])", "obstacles[0].bridge: must be the index of a bridge");
+    refuses(R"([{"type": "point", "position": 0.3}, {"type": "thread", "bridge": 0}])", "must be the index of a bridge");
+    refuses("[" + parabola + R"(, {"type": "thread", "bridge": 0, "offset": 0.02}])", "obstacles[1].offset: puts the "
+                                                                                      "thread off its bridge");
+    refuses("[" + parabola + R"(, {"type": "thread", "bridge": 0, "diameter": 0}])", "obstacles[1].diameter: must be > 0");
+    refuses("[" + parabola + R"(, {"type": "thread", "bridge": 0}, {"type": "thread", "bridge": 0}])",
+            "obstacles[2].bridge: already has a thread");
+
+    // The instrument on the same kind of bridge: the thread is one contact point more, and plays.
+    InstrumentStructure s = test::scriptStructure(ObstacleShape::parabola);
+    const auto plain = buildVoicePack(s);
+    s.thread = true;
+    const auto withThread = buildVoicePack(s);
+    CHECK(withThread->voices[0]->contactPoints() == plain->voices[0]->contactPoints() + 1);
+    Instrument instrument;
+    instrument.install(withThread.get(), nullptr);
+    instrument.setControls(InstrumentControls{});
+    instrument.settleControls();
+    instrument.noteOn(57, 0.8);
+    std::vector<float> l(512), r(512);
+    double loudest = 0.0;
+    for (int b = 0; b < 94; ++b)
+    {
+        instrument.render(l.data(), r.data(), 512);
+        for (float v : l)
+            loudest = std::max(loudest, double(std::abs(v)));
+    }
+    CHECK(loudest > 0.01);
+    CHECK(instrument.blowUps() == 0);
 }

@@ -245,11 +245,38 @@ SecondPolarisation readSecondPolarisation(const json& j)
     return second;
 }
 
+// A thread across an earlier bridge (obstacles[bridge]), which it moves so that the string rests
+// on the thread (layThread). One thread per bridge.
+Obstacle readThread(const json& j, const std::string& path, std::vector<Obstacle>& before,
+                    std::vector<bool>& threaded)
+{
+    ObjectReader r(j, path);
+    r.string("type", "thread", {"thread"});
+    const auto index = r.integer("bridge");
+    if (!index || *index < 0 || *index >= static_cast<long long>(before.size())
+        || !before[size_t(*index)].isDistributed())
+        throw SceneError(r.at("bridge"), "must be the index of a bridge (a parabola or a profile) earlier in obstacles");
+    if (threaded[size_t(*index)])
+        throw SceneError(r.at("bridge"), "already has a thread");
+    Obstacle& bridge = before[size_t(*index)];
+    Thread thread;
+    thread.law = readContactLaw(r);
+    thread.offset = r.nonNegative("offset", thread.offset);
+    thread.diameter = r.positive("diameter", thread.diameter);
+    if (bridge.supportBegin() + thread.offset > bridge.supportEnd())
+        throw SceneError(r.at("offset"), "puts the thread off its bridge, which is "
+                                             + show(bridge.supportEnd() - bridge.supportBegin()) + " m long (got "
+                                             + show(thread.offset) + " m)");
+    r.rejectUnknown();
+    threaded[size_t(*index)] = true;
+    return layThread(bridge, thread);
+}
+
 Obstacle readObstacle(const json& j, const std::string& path, double L)
 {
     ObjectReader r(j, path);
     Obstacle ob;
-    const auto type = r.string("type", "point", {"point", "profile", "parabola"});
+    const auto type = r.string("type", "point", {"point", "profile", "parabola", "thread"});
     ob.law = readContactLaw(r);
     if (type == "point")
     {
@@ -433,8 +460,15 @@ Scene parseScene(const std::string& jsonText)
         const json& obs = top.raw("obstacles");
         if (!obs.is_array())
             throw SceneError("obstacles", "must be an array, got " + typeName(obs));
+        std::vector<bool> threaded;
         for (size_t i = 0; i < obs.size(); ++i)
-            scene.obstacles.push_back(readObstacle(obs[i], "obstacles[" + std::to_string(i) + "]", L));
+        {
+            const std::string path = "obstacles[" + std::to_string(i) + "]";
+            const bool thread = obs[i].is_object() && obs[i].contains("type") && obs[i]["type"] == "thread";
+            scene.obstacles.push_back(thread ? readThread(obs[i], path, scene.obstacles, threaded)
+                                             : readObstacle(obs[i], path, L));
+            threaded.push_back(false);
+        }
     }
     if (top.has("excitation"))
     {

@@ -3,9 +3,34 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <stdexcept>
 
 namespace jawari
 {
+
+Obstacle layThread(Obstacle& bridge, const Thread& thread)
+{
+    if (!bridge.isDistributed())
+        throw std::invalid_argument("a thread lies across a bridge (a parabola or a profile), not a point");
+    const double x = bridge.supportBegin() + thread.offset;
+    if (!(thread.offset >= 0.0 && x <= bridge.supportEnd()))
+        throw std::invalid_argument("the thread lies off its bridge");
+    if (!(thread.diameter > 0.0))
+        throw std::invalid_argument("the thread's diameter must be > 0");
+    // The bridge's surface at the thread to -diameter: every height moved by one amount.
+    const double shift = -thread.diameter - bridge.heightAt(x);
+    if (bridge.type == ObstacleType::parabola)
+        bridge.height += shift;
+    for (double& h : bridge.profileHeight)
+        h += shift;
+    Obstacle point;
+    point.type = ObstacleType::point;
+    point.position = x;
+    point.height = 0.0;
+    point.width = thread.diameter;
+    point.law = thread.law;
+    return point;
+}
 
 double Obstacle::supportBegin() const
 {

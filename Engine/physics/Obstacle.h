@@ -37,6 +37,22 @@ struct Obstacle
     double heightAt(double x) const;
 };
 
+// The tanpura's thread (jiva): a cotton thread laid across a bridge between the bridge and the
+// string, which the player slides to set the jawari (docs/design.md section 1, "The thread").
+struct Thread
+{
+    double offset = 0.002;      // m from the bridge's edge nearer x = 0
+    double diameter = 0.2e-3;   // m: how far it lifts the string off the bridge
+    ContactLaw law;
+};
+
+// Lays a thread across a distributed bridge. The string rests on the thread: the bridge is moved
+// (its apex or every sample, by one amount) so that its surface lies `diameter` below the string's
+// rest line at the thread, and the thread is returned as a point obstacle there, its top at the
+// rest line (height 0) and its weight the diameter. Throws std::invalid_argument when the bridge is
+// not distributed or the thread lies off it.
+Obstacle layThread(Obstacle& bridge, const Thread& thread);
+
 struct ContactPoint
 {
     double position = 0.0;  // m

@@ -74,6 +74,11 @@ struct InstrumentStructure
     // 1, or 2: each string's horizontal polarisation too, coupled near the far end
     // (instrumentSecondPolarisation; docs/design.md section 1, "Two polarisations").
     int polarisations = 1;
+    // A thread across the parabolic bridge (Obstacle.h, layThread): the string rests on it, the
+    // bridge lies `threadDiameter` below the string there. Ignored for the other shapes.
+    bool thread = false;
+    double threadOffset = 0.002;     // m from the bridge's edge nearer the termination
+    double threadDiameter = 0.2e-3;  // m
 
     bool operator==(const InstrumentStructure&) const = default;
 };

@@ -105,7 +105,18 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
             o.type = ObstacleType::parabola;
             o.position = clampFraction(s.obstaclePosition) * L;
             o.curvature = std::max(0.0, s.curvature);
-            obstacles.push_back(o);
+            if (s.thread)
+            {
+                // On the thread the string rests at `height`; the bridge lies the diameter below it.
+                Thread thread{std::clamp(s.threadOffset, 0.0, o.width), std::max(s.threadDiameter, 1e-6), law};
+                Obstacle point = layThread(o, thread);
+                o.height += height;
+                point.height += height;
+                obstacles.push_back(o);
+                obstacles.push_back(point);
+            }
+            else
+                obstacles.push_back(o);
             break;
         case ObstacleShape::frets:
             o.type = ObstacleType::point;

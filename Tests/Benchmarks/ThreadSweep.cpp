@@ -5,10 +5,9 @@
 //                                        600 modes per polarisation at 1 MHz)
 //
 // The paper's tanpura string over a parabolic bridge on [0, 10 mm] (apex at 5 mm, curvature
-// 20 /m). A thread of diameter 0.2 mm lies across it at x_t; the string rests on the thread (its
-// top at the string's rest line), so the bridge lies 0.2 mm below the string there, and the
-// bridge's apex is closer to the string the further the thread is from it. The thread is a point
-// obstacle of weight 0.2 mm. For each x_t: the spectral centroid above the 10th partial over the
+// 20 /m). A thread of diameter 0.2 mm lies across it at x_t (layThread: the string rests on the
+// thread, so the bridge lies 0.2 mm below the string there, and the bridge's apex is closer to the
+// string the further the thread is from it). For each x_t: the spectral centroid above the 10th partial over the
 // first second, and at 0.05 s and 0.9 s.
 
 #include "offline/Analysis.h"
@@ -34,14 +33,8 @@ Scene sweepScene(double threadAt, int polarisations, bool reference)
     bridge.position = kApex;
     bridge.width = 2.0 * kApex;
     bridge.curvature = kCurvature;
-    bridge.height = -kThread + 0.5 * kCurvature * (threadAt - kApex) * (threadAt - kApex);
     bridge.law = {1e13, 1.3};
-    Obstacle thread;
-    thread.type = ObstacleType::point;
-    thread.position = threadAt;
-    thread.width = kThread;
-    thread.height = bridge.heightAt(threadAt) + kThread;  // 0: the string rests on it
-    thread.law = {1e13, 1.3};
+    const Obstacle thread = layThread(bridge, Thread{threadAt, kThread, {1e13, 1.3}});
     s.obstacles = {bridge, thread};
     if (reference)
     {
