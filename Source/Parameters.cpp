@@ -245,6 +245,13 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
                                                           false));
     // The string's horizontal polarisation too (docs/design.md section 1): 1 or 2.
     layout.add(choice(ids::polarisations, "Polarisations", juce::StringArray{"1", "2"}, 0));
+    // The tanpura's thread across the parabolic bridge (Obstacle.h, layThread).
+    const InstrumentStructure s;
+    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::thread, 1}, "Thread", s.thread));
+    layout.add(number(ids::threadPosition, "Thread position", Range(0.0f, 20.0f, 0.01f),
+                      float(s.threadOffset / kMetresPerMillimetre), inUnit("mm", 2)));
+    layout.add(number(ids::threadDiameter, "Thread diameter", Range(0.05f, 1.0f, 0.01f),
+                      float(s.threadDiameter / kMetresPerMillimetre), inUnit("mm", 2)));
     return layout;
 }
 
@@ -273,6 +280,9 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
     s.quality = rounded(get(ids::quality));
     s.method = kContactMethods[size_t(std::clamp(rounded(get(ids::method)), 0, lastMethod))].method;
     s.polarisations = rounded(get(ids::polarisations)) >= 1 ? 2 : 1;
+    s.thread = get(ids::thread) > 0.5f;
+    s.threadOffset = get(ids::threadPosition) * kMetresPerMillimetre;
+    s.threadDiameter = get(ids::threadDiameter) * kMetresPerMillimetre;
     s.hostRateHz = hostRateHz;
     return s;
 }

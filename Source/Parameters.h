@@ -55,6 +55,9 @@ inline constexpr const char* stereoWidth = "stereoWidth";
 inline constexpr const char* mpeBendRange = "mpeBendRange";
 inline constexpr const char* secondCore = "secondCore";
 inline constexpr const char* polarisations = "polarisations";
+inline constexpr const char* thread = "thread";
+inline constexpr const char* threadPosition = "threadPosition";
+inline constexpr const char* threadDiameter = "threadDiameter";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -94,7 +97,10 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::mpeBendRange,
                                                 ids::stereoWidth,
                                                 ids::secondCore,
-                                                ids::polarisations};
+                                                ids::polarisations,
+                                                ids::thread,
+                                                ids::threadPosition,
+                                                ids::threadDiameter};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

@@ -105,6 +105,11 @@ const ControlSpec kControls[] = {
     {"String", ids::polarisations, "Polarisations",
      "1: the string moves in the vertical only. 2: its horizontal polarisation too, coupled to the vertical near the "
      "far end by a tilted spring, so the string's motion turns and beats as a real string's does."},
+    {"Thread", ids::thread, "Thread",
+     "The tanpura's thread (jiva) across the curved bridge: the string rests on it, the bridge one diameter below "
+     "it there. Sliding it sets the jawari. Parabola shape only."},
+    {"Thread", ids::threadPosition, "Position", "Where the thread lies, from the bridge's edge nearer the end."},
+    {"Thread", ids::threadDiameter, "Diameter", "How far the thread lifts the string off the bridge."},
     {"Quality", ids::secondCore, "2nd core",
      "Steps half the sounding strings on a second core, beside the host's audio thread: for high quality or many "
      "strings where one core is not enough. The sound is the same to the last bit; off, everything runs on the "
@@ -114,7 +119,7 @@ static_assert(std::size(kControls) == kParameterCount);
 
 // The panels, row by row as the editor lays them out.
 const std::vector<std::vector<const char*>> kPanelRows = {
-    {"String", "Output"}, {"Obstacle"}, {"Damping", "Quality"}, {"Drone"}, {"Drone tuning", "MIDI"}};
+    {"String", "Output"}, {"Obstacle", "Thread"}, {"Damping", "Quality"}, {"Drone"}, {"Drone tuning", "MIDI"}};
 
 // The keyboard's and the Pluck button's velocity, wherever a key is clicked: the paper's 1.5 mm
 // pluck (velocity 100).

@@ -275,7 +275,10 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::mpeBendRange, 48.0f},
                                                       {ids::stereoWidth, 0.6f},
                                                       {ids::secondCore, 0.0f},
-                                                      {ids::polarisations, 0.0f}};
+                                                      {ids::polarisations, 0.0f},
+                                                      {ids::thread, 0.0f},
+                                                      {ids::threadPosition, 2.0f},
+                                                      {ids::threadDiameter, 0.2f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -378,7 +381,10 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::mpeBendRange, 24.0f},
                                                     {ids::stereoWidth, 0.25f},
                                                     {ids::secondCore, 1.0f},
-                                                    {ids::polarisations, 1.0f}};
+                                                    {ids::polarisations, 1.0f},
+                                                    {ids::thread, 1.0f},
+                                                    {ids::threadPosition, 3.5f},
+                                                    {ids::threadDiameter, 0.3f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -400,6 +406,9 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(s.quality == 2);
     CHECK(s.method == ContactMethod::quadratised);
     CHECK(s.polarisations == 2);
+    CHECK(s.thread);
+    CHECK(s.threadOffset == Approx(3.5e-3).epsilon(1e-4));
+    CHECK(s.threadDiameter == Approx(0.3e-3).epsilon(1e-4));
     CHECK(s.hostRateHz == 44100.0);
 
     const auto c = reader.controls(curve);
