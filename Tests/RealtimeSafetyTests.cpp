@@ -148,15 +148,23 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
 
 TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
 {
-    // Every obstacle shape (one point, a parabolic bridge, five frets) and every method.
-    // Each voice alone, the string bank, and each voice alone with a second core (whose clones the
-    // audio thread copies every chunk).
+    // Every obstacle shape (one point, a parabolic bridge, five frets), the point and the bridge
+    // with its thread also in two polarisations, and every method. Each voice alone, the string
+    // bank, and each voice alone with a second core (whose clones the audio thread copies every
+    // chunk).
     struct Stepping
     {
         StringScheduling scheduling;
         bool secondCore;
     };
-    for (const auto shape : {ObstacleShape::point, ObstacleShape::parabola, ObstacleShape::frets})
+    struct Strings
+    {
+        ObstacleShape shape;
+        bool twoPolarisationsAndThread;
+    };
+    for (const auto [shape, twoAndThread] : {Strings{ObstacleShape::point, false}, Strings{ObstacleShape::point, true},
+                                             Strings{ObstacleShape::parabola, false},
+                                             Strings{ObstacleShape::parabola, true}, Strings{ObstacleShape::frets, false}})
         for (const auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty,
                                   ContactMethod::quadraticSpline})
             for (const auto [scheduling, secondCore] : {Stepping{StringScheduling::lone, false},
@@ -169,6 +177,8 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
             s.method = method;
             s.obstaclePosition = shape == ObstacleShape::parabola ? 0.01 : 0.3;
             s.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+            s.polarisations = twoAndThread ? 2 : 1;
+            s.thread = twoAndThread;  // across the parabola; a point has none
             auto first = buildVoicePack(s);
             s.obstaclePosition += 0.01;
             auto second = buildVoicePack(s);  // built off the audio thread, as the plugin's builder does
@@ -215,7 +225,7 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
                 }
                 counted = allocations;
             }
-            INFO("shape " << int(shape) << " method " << int(method) << " scheduling " << int(scheduling)
+            INFO("shape " << int(shape) << " two polarisations and thread " << twoAndThread << " method " << int(method) << " scheduling " << int(scheduling)
                           << " second core " << secondCore);
             CHECK(counted == 0);
             CHECK(instrument.snapshots().read(snapshot));
