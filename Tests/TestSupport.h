@@ -8,6 +8,8 @@
 #include "realtime/Instrument.h"
 #include "realtime/Voice.h"
 
+#include <catch2/catch.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -99,6 +101,17 @@ inline BandCentroids bandCentroids(const std::vector<double>& y, double f0)
     return {spectralCentroid(y, 48000, 4800, window, 10.5 * f0, 20000),
             spectralCentroid(y, 48000, 24000, window, 10.5 * f0, 20000),
             spectralCentroid(y, 48000, 43200, window, 10.5 * f0, 20000)};
+}
+
+// Checks that band: it falls from 0.1 to 0.5 to 0.9 s, and by a fifth at least.
+inline void checkBandFalls(const std::vector<double>& y, double f0)
+{
+    const auto [early, middle, late] = bandCentroids(y, f0);
+    INFO("centroid above the 10th partial: " << early << " Hz (0.1 s), " << middle << " Hz (0.5 s), " << late
+                                             << " Hz (0.9 s)");
+    CHECK(middle < early);
+    CHECK(late < middle);
+    CHECK(late < 0.8 * early);
 }
 
 }  // namespace jawari::test
