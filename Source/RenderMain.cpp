@@ -66,8 +66,8 @@ MIDI (instead of a scene file):
                           --duration the file ends once the output has stayed below -100 dBFS for
                           0.5 s after the last event, at most 60 s after it
   --preset NAME           a factory preset, by its name or the part before the parenthesis
-                          ("Default", "Paper centre obstacle", "Tanpura drone", "Tanpura thread",
-                          "Sitar", "Bass fret buzz"); the plugin's defaults (Default) without it
+                          ("Default", "Paper centre obstacle", "Tanpura drone", "Sitar",
+                          "Bass fret buzz", "Tanpura thread"); the plugin's defaults (Default) without it
   --state FILE            a state saved by the plugin as XML (a user preset, .jawaripreset)
   --output-rate HZ        the rate the plugin runs at: 22050 to 192000 Hz (default 48000)
   --second-core           the plugin's "use a second core": half the strings stepped on another

@@ -186,6 +186,18 @@ TEST_CASE("The state round-trips every parameter and the damping curve", "[plugi
         CHECK(b.dampingCurvePoint(i) == Approx(std::clamp(0.25f + 0.5f * float(i), 0.125f, 8.0f)));
 }
 
+TEST_CASE("The factory presets keep their program numbers: a new one comes last", "[plugin]")
+{
+    // A host recalls a program by its number; a preset inserted before another would change the sound
+    // of every session saved on the later one.
+    const char* names[] = {"Default (tanpura bridge, no drone)", "Paper centre obstacle", "Tanpura drone",
+                           "Sitar (parabolic bridge)", "Bass fret buzz", "Tanpura thread (jiva, two polarisations)"};
+    JawariAudioProcessor p;
+    REQUIRE(p.getNumPrograms() == int(std::size(names)));
+    for (int i = 0; i < p.getNumPrograms(); ++i)
+        CHECK(p.getProgramName(i) == juce::String(names[i]));
+}
+
 TEST_CASE("A state or preset saved with the old id droneLevel restores the drone strength", "[plugin]")
 {
     // The state of an older version: drone strength saved as "droneLevel".
