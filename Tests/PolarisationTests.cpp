@@ -470,3 +470,59 @@ TEST_CASE("The thread's position moves the buzz band, as much with one polarisat
     CHECK(range[1] > 500.0);
     CHECK(range[1] / range[0] == Approx(1.0).margin(0.25));
 }
+
+TEST_CASE("The string rests on the highest support: a thread below a steep bridge's crown lies under the string",
+          "[polarisations]")
+{
+    // The Sitar's bridge (apex 10.8 mm, 20 mm wide, 8 /m) with a 0.2 mm thread 2 mm from its edge:
+    // the bridge there is 0.256 mm below its apex, more than the thread lifts the string, so the
+    // string rests on the crown and the thread's top is 0.056 mm below it.
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = 0.0108;
+    bridge.width = 0.02;
+    bridge.curvature = 8.0;
+    const Obstacle thread = layThread(bridge, Thread{0.002, 0.2e-3, {}});
+    CHECK(bridge.highestHeight() == 0.0);
+    CHECK(thread.height == Approx(-0.5 * 8.0 * 0.008 * 0.008 + 0.2e-3).margin(1e-15));
+
+    // Across bridges and threads the highest support is the rest line, and nothing rises above it.
+    for (const double curvature : {0.0, 5.0, 20.0, 100.0})
+        for (const double offset : {0.0, 0.001, 0.004, 0.006, 0.01})
+            for (const double diameter : {0.05e-3, 0.2e-3, 1e-3})
+            {
+                Obstacle b;
+                b.type = ObstacleType::parabola;
+                b.position = 0.005;
+                b.width = 0.01;
+                b.curvature = curvature;
+                b.height = 3e-4;
+                const Obstacle t = layThread(b, Thread{offset, diameter, {}});
+                INFO("curvature " << curvature << ", thread at " << offset << " m, diameter " << diameter << " m");
+                CHECK(std::max(b.highestHeight(), t.height) == Approx(0.0).margin(1e-15));
+                CHECK(b.highestHeight() <= 1e-15);
+                CHECK(t.height <= 0.0);
+                CHECK(t.height == Approx(b.heightAt(t.position) + diameter).margin(1e-15));
+            }
+    // A profile likewise: its highest sample 0.3 mm above the thread's top is the rest line.
+    Obstacle profile;
+    profile.type = ObstacleType::profile;
+    profile.profileX = {0.0, 0.004, 0.008};
+    profile.profileHeight = {0.0, 5e-4, 0.0};
+    const Obstacle onProfile = layThread(profile, Thread{0.0, 0.2e-3, {}});
+    CHECK(profile.highestHeight() == Approx(0.0).margin(1e-15));
+    CHECK(onProfile.height == Approx(-3e-4).margin(1e-15));
+
+    // The instrument: the Sitar preset's bridge with its thread switched on plays without pressing
+    // into its string at rest.
+    InstrumentStructure s = test::scriptStructure(ObstacleShape::parabola);
+    s.stringType = 1;
+    s.obstaclePosition = 0.012;
+    s.obstacleWidth = 0.02;
+    s.curvature = 8.0;
+    s.thread = true;
+    const auto obstacles = instrumentObstacles(s, ContactLaw{1e12, 1.5}, 0.0);
+    REQUIRE(obstacles.size() == 2);
+    CHECK(obstacles[0].highestHeight() <= 1e-15);
+    CHECK(obstacles[1].height < 0.0);
+}

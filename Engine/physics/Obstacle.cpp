@@ -17,8 +17,11 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
         throw std::invalid_argument("the thread lies off its bridge");
     if (!(thread.diameter > 0.0))
         throw std::invalid_argument("the thread's diameter must be > 0");
-    // The bridge's surface at the thread to -diameter: every height moved by one amount.
-    const double shift = -thread.diameter - bridge.heightAt(x);
+    // The highest support to the rest line: every height moved by one amount.
+    const double threadTop = bridge.heightAt(x) + thread.diameter;
+    const double crown = bridge.highestHeight();
+    const bool onThread = threadTop >= crown;
+    const double shift = onThread ? -thread.diameter - bridge.heightAt(x) : -crown;
     if (bridge.type == ObstacleType::parabola)
         bridge.height += shift;
     for (double& h : bridge.profileHeight)
@@ -26,7 +29,7 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
     Obstacle point;
     point.type = ObstacleType::point;
     point.position = x;
-    point.height = 0.0;
+    point.height = onThread ? 0.0 : threadTop - crown;
     point.width = thread.diameter;
     point.law = thread.law;
     return point;
@@ -52,6 +55,22 @@ double Obstacle::supportEnd() const
         case ObstacleType::parabola: return position + 0.5 * width;
     }
     return position;
+}
+
+double Obstacle::highestHeight() const
+{
+    switch (type)
+    {
+        case ObstacleType::point: return height;
+        case ObstacleType::parabola:
+        {
+            const double edges = std::max(heightAt(supportBegin()), heightAt(supportEnd()));
+            return curvature >= 0.0 ? std::max(height, edges) : edges;
+        }
+        case ObstacleType::profile:
+            return profileHeight.empty() ? height : *std::max_element(profileHeight.begin(), profileHeight.end());
+    }
+    return height;
 }
 
 double Obstacle::heightAt(double x) const

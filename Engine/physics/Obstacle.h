@@ -35,6 +35,8 @@ struct Obstacle
     double supportEnd() const;
     // g(x) inside the support (distributed obstacles).
     double heightAt(double x) const;
+    // The highest g over the support: a parabola's apex (or an edge), a profile's highest sample.
+    double highestHeight() const;
 };
 
 // The tanpura's thread (jiva): a cotton thread laid across a bridge between the bridge and the
@@ -46,11 +48,15 @@ struct Thread
     ContactLaw law;
 };
 
-// Lays a thread across a distributed bridge. The string rests on the thread: the bridge is moved
-// (its apex or every sample, by one amount) so that its surface lies `diameter` below the string's
-// rest line at the thread, and the thread is returned as a point obstacle there, its top at the
-// rest line (height 0) and its weight the diameter. Throws std::invalid_argument when the bridge is
-// not distributed or the thread lies off it.
+// Lays a thread across a distributed bridge. The string rests on the highest support: the bridge is
+// moved (its apex or every sample, by one amount) so that the higher of the thread's top (the
+// bridge's surface there plus the diameter) and the bridge's crown lies at the string's rest line
+// (height 0). The thread is returned as a point obstacle, its top at that height and its weight the
+// diameter. Where the thread is the higher, as a player sets it, its top is the rest line and the
+// bridge lies `diameter` below the string there; where the crown rises above the thread (a steep
+// bridge, a thread far from its apex), the string rests on the crown and the thread lies under it,
+// clear of it at rest. Throws std::invalid_argument when the bridge is not distributed or the
+// thread lies off it.
 Obstacle layThread(Obstacle& bridge, const Thread& thread);
 
 struct ContactPoint

@@ -10,6 +10,9 @@
 namespace jawari
 {
 
+// The worker takes at most all strings but one; post() keeps no more than kMaxTasks.
+static_assert(kSlots - 1 <= StringWorker::kMaxTasks, "the second core's tasks must hold a share of every slot");
+
 void Instrument::stepStrings(Sounding& s, int samples)
 {
     if (scheduling_ == StringScheduling::bank)

@@ -108,7 +108,10 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
             if (s.thread)
             {
                 // On the thread the string rests at `height`; the bridge lies the diameter below it.
-                Thread thread{std::clamp(s.threadOffset, 0.0, o.width), std::max(s.threadDiameter, 1e-6), law};
+                // NaN-safe: a value that is not a number lays the thread at the edge, 1 um thick.
+                const double offset = s.threadOffset > 0.0 ? std::min(s.threadOffset, o.width) : 0.0;
+                const double diameter = s.threadDiameter > 1e-6 ? s.threadDiameter : 1e-6;
+                Thread thread{offset, diameter, law};
                 Obstacle point = layThread(o, thread);
                 o.height += height;
                 point.height += height;
