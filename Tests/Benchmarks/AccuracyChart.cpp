@@ -76,10 +76,10 @@ int main(int argc, char** argv)
 
     // The sweep tunes on the two paper scenes. The named settings are checked on one scene per factory
     // preset besides: the drone's Sa and Pa on the tanpura's point bridge, the Sitar's string on a point
-    // at its bridge's apex and on its parabolic bridge, the bass string rattling on its frets, and the
-    // free string.
+    // at its bridge's apex and on its parabolic bridge, the bass string rattling on its frets, the
+    // free string, and the tanpura on its bridge and thread in two polarisations.
     for (const char* name : {"paper-centre", "paper-tanpura", "tanpura-sa", "tanpura-pa", "sitar-point", "sitar-bridge",
-                             "bass-frets", "free-string"})
+                             "bass-frets", "free-string", "tanpura-thread"})
     {
         ++sceneIndex;
         const auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
