@@ -56,9 +56,10 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::release, 0.25f}}},
         // The tanpura a player sets by its thread: the paper's string over a 10 mm curved bridge (apex
         // 5 mm from the end, 20 /m), a 0.2 mm thread 6 mm from the bridge's edge, both polarisations,
-        // the drone on (last, so the other presets keep their program numbers in a host). There the band above the 10th partial sweeps down by a quarter
-        // over the first second, the jawari's "open" sound; nearer the apex it hardly moves (8 % at
-        // 4 mm), nearer the edge it stays high (docs/measurements.md, "The thread's position, explored").
+        // the drone on. There the band above the 10th partial sweeps down by a quarter over the first
+        // second, the jawari's "open" sound; nearer the apex it hardly moves (8 % at 4 mm), nearer the
+        // edge it stays high (docs/measurements.md, "The thread's position, explored"). Last, so the
+        // other presets keep their program numbers in a host.
         {"Tanpura thread (jiva, two polarisations)",
          {{ids::stringType, 0.0f},
           {ids::obstacleShape, 1.0f},

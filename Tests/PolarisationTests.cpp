@@ -427,8 +427,8 @@ std::vector<double> threadedTanpura(double offset, bool twoPolarisations)
     scene.simulation.rateHz.reset();
     if (!twoPolarisations)
         scene.secondPolarisation.reset();
-    // The bridge as the scene lays it, the thread moved to `offset` (layThread lowers it anew).
-    auto bridge = loadSceneFile(test::resource("Scenes/tanpura-thread.json")).obstacles[0];
+    // The scene's bridge at its own height again, the thread moved to `offset` and laid anew.
+    auto bridge = scene.obstacles[0];
     bridge.height = 0.0;
     const Obstacle thread = layThread(bridge, Thread{offset, 0.2e-3, scene.obstacles[1].law});
     scene.obstacles = {bridge, thread};

@@ -225,8 +225,8 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
                 }
                 counted = allocations;
             }
-            INFO("shape " << int(shape) << " two polarisations and thread " << twoAndThread << " method " << int(method) << " scheduling " << int(scheduling)
-                          << " second core " << secondCore);
+            INFO("shape " << int(shape) << " two polarisations and thread " << twoAndThread << " method " << int(method)
+                          << " scheduling " << int(scheduling) << " second core " << secondCore);
             CHECK(counted == 0);
             CHECK(instrument.snapshots().read(snapshot));
             CHECK(snapshot.sequence > 0);

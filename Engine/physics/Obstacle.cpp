@@ -19,9 +19,8 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
         throw std::invalid_argument("the thread's diameter must be > 0");
     // The highest support to the rest line: every height moved by one amount.
     const double threadTop = bridge.heightAt(x) + thread.diameter;
-    const double crown = bridge.highestHeight();
-    const bool onThread = threadTop >= crown;
-    const double shift = onThread ? -thread.diameter - bridge.heightAt(x) : -crown;
+    const double rest = std::max(threadTop, bridge.highestHeight());
+    const double shift = -rest;
     if (bridge.type == ObstacleType::parabola)
         bridge.height += shift;
     for (double& h : bridge.profileHeight)
@@ -29,7 +28,7 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
     Obstacle point;
     point.type = ObstacleType::point;
     point.position = x;
-    point.height = onThread ? 0.0 : threadTop - crown;
+    point.height = threadTop - rest;  // 0 where the thread carries the string
     point.width = thread.diameter;
     point.law = thread.law;
     return point;
@@ -62,11 +61,8 @@ double Obstacle::highestHeight() const
     switch (type)
     {
         case ObstacleType::point: return height;
-        case ObstacleType::parabola:
-        {
-            const double edges = std::max(heightAt(supportBegin()), heightAt(supportEnd()));
-            return curvature >= 0.0 ? std::max(height, edges) : edges;
-        }
+        case ObstacleType::parabola:  // the apex is the support's centre
+            return curvature >= 0.0 ? height : std::max(heightAt(supportBegin()), heightAt(supportEnd()));
         case ObstacleType::profile:
             return profileHeight.empty() ? height : *std::max_element(profileHeight.begin(), profileHeight.end());
     }

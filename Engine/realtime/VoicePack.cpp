@@ -107,7 +107,8 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
             o.curvature = std::max(0.0, s.curvature);
             if (s.thread)
             {
-                // On the thread the string rests at `height`; the bridge lies the diameter below it.
+                // The string rests on its highest support (the thread, or a steep bridge's crown) at
+                // `height`.
                 // NaN-safe: a value that is not a number lays the thread at the edge, 1 um thick.
                 const double offset = s.threadOffset > 0.0 ? std::min(s.threadOffset, o.width) : 0.0;
                 const double diameter = s.threadDiameter > 1e-6 ? s.threadDiameter : 1e-6;
