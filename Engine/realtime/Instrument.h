@@ -178,8 +178,8 @@ struct VoicePack
     std::vector<double> mixLeft, mixRight;
     std::vector<double> stringBlocks;   // kSlots chunks at the internal rate: each string's, before the mix
     std::vector<double> secondBlocks;   // the same from each string's second pickup (the right channel)
-    // A second core's share (StringWorker): each slot's clone of its voice, and the blocks the
-    // worker steps it into.
+    // A second core's share (StringWorker): each slot's backup of its voice (a copy the audio thread
+    // steps when the worker is late), and the blocks the worker steps the voice into.
     std::vector<std::unique_ptr<Voice>> clones;
     std::vector<double> workerBlocks, workerSecondBlocks;
     int oversampling = 1;
@@ -219,6 +219,7 @@ struct InstrumentActivity
     int mostIterations = 0;     // the most in one step
     long workerStrings = 0;     // string chunks the second core stepped
     long workerRevoked = 0;     // string chunks taken back from the second core, late
+    long workerUnstarted = 0;   // string chunks the second core had not started when collected
 };
 
 class Instrument

@@ -24,13 +24,16 @@ void Instrument::stepStrings(Sounding& s, int samples)
             s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
 }
 
-// The worker takes the last strings, each as a clone copied here, and steps them from the front of
-// its share; the audio thread steps the first ones, then collects the worker's from the back: a
-// clone the worker finished becomes the string (its blocks are the string's), and a string the
-// worker has not started, or is still stepping after 1.5 times the audio thread's own mean time per
-// string, the audio thread steps itself. The shares balance from chunk to chunk: about half each,
-// one string more for the worker after a chunk it finished before the audio thread had stepped its
-// own, one fewer after a chunk it did not finish.
+// The worker takes the last strings and steps them from the front of its share; before offering
+// each one the audio thread copies it into its backup (a clone), so the string's own arrays stay in
+// the worker's cache from chunk to chunk. The audio thread steps the first strings, then collects
+// the worker's from the back: a string the worker finished is done (its blocks are the worker's),
+// and one the worker has not started, or is still stepping after 1.5 times the audio thread's own
+// mean time per string, the audio thread steps from its backup, which becomes the string.
+// The shares balance from chunk to chunk, starting from half each: one string more for the worker
+// after a chunk it finished before the audio thread had stepped its own; one fewer after a chunk in
+// which it was late, or left two strings or more unstarted (one unstarted string is the slack that
+// keeps the worker busy to the end).
 void Instrument::stepWithWorker(Sounding& s, int samples)
 {
     using Clock = std::chrono::steady_clock;
@@ -39,41 +42,42 @@ void Instrument::stepWithWorker(Sounding& s, int samples)
     const int own = std::clamp(n - n / 2 - workerBias_, 1, n - 1);
     const size_t chunkSteps = size_t(kChunk) * size_t(pack_->oversampling);
     std::array<StringWorker::Task, kSlots> tasks{};
+    worker_->post(n - own, samples);
     for (int k = own; k < n; ++k)
     {
         const size_t slot = size_t(s.slots[size_t(k)]);
-        Voice& clone = *pack_->clones[slot];
-        clone = *s.voices[size_t(k)];
-        tasks[size_t(k - own)] = {&clone, pack_->workerBlocks.data() + slot * chunkSteps,
+        *pack_->clones[slot] = *s.voices[size_t(k)];
+        tasks[size_t(k - own)] = {s.voices[size_t(k)], pack_->workerBlocks.data() + slot * chunkSteps,
                                   pack_->workerSecondBlocks.data() + slot * chunkSteps};
+        worker_->offer(k - own, tasks[size_t(k - own)]);
     }
-    worker_->post(tasks.data(), n - own, samples);
     const auto start = Clock::now();
     for (int k = 0; k < own; ++k)
         s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
     const auto patience = (Clock::now() - start) * 3 / (2 * own);
-    bool late = false;
-    if (worker_->jobFinished())
-        ++workerBias_;  // the worker waited for the audio thread
+    const bool early = worker_->jobFinished();  // the worker waited for the audio thread
+    int unstarted = 0, revoked = 0;
     for (int k = n - 1; k >= own; --k)
     {
-        const size_t slot = size_t(s.slots[size_t(k)]);
         const auto outcome = worker_->collect(k - own, Clock::now() + patience);
         if (outcome == StringWorker::Outcome::worker)
         {
-            std::swap(pack_->voices[slot], pack_->clones[slot]);
-            s.voices[size_t(k)] = pack_->voices[slot].get();
             s.blocks[size_t(k)] = tasks[size_t(k - own)].block;
             s.seconds[size_t(k)] = tasks[size_t(k - own)].second;
             ++activity_.workerStrings;
             continue;
         }
-        late = true;
-        if (outcome == StringWorker::Outcome::revoked)
-            ++activity_.workerRevoked;
+        ++(outcome == StringWorker::Outcome::revoked ? revoked : unstarted);
+        const size_t slot = size_t(s.slots[size_t(k)]);
+        std::swap(pack_->voices[slot], pack_->clones[slot]);  // the backup is the string
+        s.voices[size_t(k)] = pack_->voices[slot].get();
         s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
     }
-    if (late)
+    activity_.workerRevoked += revoked;
+    activity_.workerUnstarted += unstarted;
+    if (early)
+        ++workerBias_;
+    else if (revoked > 0 || unstarted >= 2)
         --workerBias_;
 }
 

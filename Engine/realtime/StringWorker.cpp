@@ -49,18 +49,21 @@ bool StringWorker::idle() const
     return running() && jobFinished();
 }
 
-void StringWorker::post(const Task* tasks, int count, int samples)
+void StringWorker::post(int count, int samples)
 {
     count_ = count < kMaxTasks ? count : kMaxTasks;
     samples_ = samples;
     for (int i = 0; i < count_; ++i)
-    {
-        tasks_[size_t(i)] = tasks[i];
-        state_[size_t(i)].store(posted, std::memory_order_relaxed);
-    }
+        state_[size_t(i)].store(unready, std::memory_order_relaxed);
     posted_.fetch_add(1, std::memory_order_release);
     signal_.fetch_add(1, std::memory_order_release);
     signal_.notify_one();  // a futex wake only if the worker sleeps
+}
+
+void StringWorker::offer(int i, const Task& task)
+{
+    tasks_[size_t(i)] = task;
+    state_[size_t(i)].store(posted, std::memory_order_release);
 }
 
 StringWorker::Outcome StringWorker::collect(int i, std::chrono::steady_clock::time_point deadline)
@@ -116,13 +119,15 @@ bool StringWorker::waitForJob(uint32_t seen)
     }
 }
 
-// The tasks in order; each claimed by one compare-and-swap, and handed back the same way unless
-// the audio thread took it meanwhile.
+// The tasks in order, each waited for until offered; each claimed by one compare-and-swap, and
+// handed back the same way unless the audio thread took it meanwhile.
 void StringWorker::runJob()
 {
     for (int i = 0; i < count_; ++i)
     {
         auto& state = state_[size_t(i)];
+        while (state.load(std::memory_order_acquire) == unready)
+            cpuRelax();  // the audio thread offers every task before it collects any
         int expected = posted;
         if (!state.compare_exchange_strong(expected, stepping, std::memory_order_acq_rel))
             continue;

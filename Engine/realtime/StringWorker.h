@@ -1,16 +1,19 @@
 #pragma once
 // A second core for the instrument's strings (opt-in; docs/design.md section 6, "The second core").
 //
-// Each chunk, the audio thread hands the worker a share of the sounding strings as tasks. A task is a
-// CLONE of a string's voice (copied on the audio thread just before: a few kilobytes) and blocks of
-// the worker's own to step it into; the original stays the audio thread's. Each task then ends one
-// of three ways, decided by one compare-and-swap on its state:
-//   - the worker finished it: the clone, one chunk further on, becomes the string;
-//   - the worker had not started it: the audio thread steps the original itself;
+// Each chunk, the audio thread opens a job of a share of the sounding strings and offers them one by
+// one as tasks, so the worker starts on the first while the audio thread prepares the next. A task is
+// a string's voice and blocks of the worker's own to step it into; just before offering it, the
+// audio thread copies the voice into a BACKUP of its own (a few kilobytes). The worker steps the
+// string itself, so a string it keeps from chunk to chunk stays in its cache. Each task then ends
+// one of three ways, decided by one compare-and-swap on its state:
+//   - the worker finished it: the string is one chunk further on, in the worker's blocks;
+//   - the worker had not started it: the audio thread steps the backup, which becomes the string;
 //   - the worker is still stepping it: the audio thread spins until a deadline it chooses, then
-//     revokes it and steps the original itself; the worker's result is thrown away when it ends.
-// The clone starts as an exact copy, so every outcome is the same arithmetic: the output is bit for
-// bit what one thread makes, whoever stepped which string. The audio thread never waits beyond its
+//     revokes it and steps the backup, which becomes the string; the worker's result is thrown
+//     away when it ends.
+// The backup is an exact copy, so every outcome is the same arithmetic: the output is bit for bit
+// what one thread makes, whoever stepped which string. The audio thread never waits beyond its
 // deadline and never blocks: posting is an atomic store (a futex wake when the worker sleeps).
 //
 // A worker still busy with a revoked task is not idle(), and the audio thread does the whole chunk
@@ -35,7 +38,7 @@ public:
 
     struct Task
     {
-        Voice* voice = nullptr;  // the clone to step
+        Voice* voice = nullptr;  // the string to step
         double* block = nullptr;   // its internal-rate samples
         double* second = nullptr;  // its second pickup's, or null
     };
@@ -60,8 +63,12 @@ public:
     bool idle() const;
     // RT: the job posted last is finished (every task done or taken back).
     bool jobFinished() const { return finished_.load(std::memory_order_acquire) == posted_.load(std::memory_order_relaxed); }
-    // RT: hands over `count` tasks (<= kMaxTasks) of `samples` host samples. Only when idle().
-    void post(const Task* tasks, int count, int samples);
+    // RT: opens a job of `count` tasks (<= kMaxTasks) of `samples` host samples, each to be offered
+    // before it is collected. Only when idle().
+    void post(int count, int samples);
+    // RT: task i of the job posted last, ready to step (the worker takes the tasks in order and
+    // waits for one not yet offered).
+    void offer(int i, const Task& task);
     // RT: task i's outcome, waiting for the worker at most until `deadline` if it is stepping it.
     Outcome collect(int i, std::chrono::steady_clock::time_point deadline);
 
@@ -78,6 +85,7 @@ public:
 private:
     enum State : int
     {
+        unready,  // posted, not yet offered
         posted,
         stepping,
         done,

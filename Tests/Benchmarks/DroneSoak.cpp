@@ -120,7 +120,7 @@ int main(int argc, char* argv[])
     // Per block, in the thread's CPU time (without the machine's preemptions) and in wall time.
     jawari::BlockLoad cpuLoad, wallLoad;
     long iterations = 0;
-    long workerStrings = 0, workerRevoked = 0;  // all blocks': a slow block's own count against the mean says whether it had more work
+    long workerStrings = 0, workerRevoked = 0, workerUnstarted = 0;  // all blocks': a slow block's own count against the mean says whether it had more work
     const long replayBlocks = replay > 0.0 ? std::max(1L, std::lround(replay * rate / block)) : 0;
     long nonFinite = 0, beyond = 0;
     for (long b = 0; b < blocks; ++b)
@@ -147,6 +147,7 @@ int main(int argc, char* argv[])
         iterations += p.instrument().activity().newtonIterations;
         workerStrings += p.instrument().activity().workerStrings;
         workerRevoked += p.instrument().activity().workerRevoked;
+        workerUnstarted += p.instrument().activity().workerUnstarted;
         wallLoad.add(b, seconds / budget, p.instrument().activity());
         worst = std::max(worst, seconds);
         total += seconds;
@@ -176,7 +177,8 @@ int main(int argc, char* argv[])
                 pack->modes, pack->voices[0]->oversampling(), pack->voices[0]->contactPoints(), rate, block,
                 polyphony, secondCore != 0 ? ", a second core" : "", polarisations == 2 ? ", two polarisations" : "");
     if (secondCore != 0)
-        std::printf("  the second core stepped %ld string chunks; %ld taken back late\n", workerStrings, workerRevoked);
+        std::printf("  the second core stepped %ld string chunks; %ld taken back late, %ld not started\n",
+                    workerStrings, workerRevoked, workerUnstarted);
     std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
                 p.instrument().dronePlucks(), nonFinite, beyond, peak, 20.0 * std::log10(std::max(peak, 1e-12)));
     const double mean = total / (blocks * budget);
