@@ -47,7 +47,10 @@ TEST_CASE("every obstacle type and override parses")
                       {"type": "parabola", "position": 0.004, "width": 0.008, "curvature": 3.0, "height": 1e-5},
                       {"position": 0.3}],
         "pickup": {"quantity": "force"},
-        "simulation": {"modes": 200, "rate": 480000, "duration": 0.5, "output_rate": 44100}})");
+        "simulation": {"modes": 200, "rate": 480000, "duration": 0.5, "output_rate": 44100,
+                       "residual_compliance": false, "static_pickup": false}})");
+    CHECK_FALSE(s.simulation.residualCompliance);
+    CHECK_FALSE(s.simulation.staticPickup);
     CHECK(s.string.damping.law == DampingLaw::constant);
     CHECK(s.string.damping.sigma == 1.5);
     REQUIRE(s.string.modeOverrides.size() == 1);
@@ -120,6 +123,8 @@ TEST_CASE("bad scenes are rejected with the field named")
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 0}})", "simulation.rate: must be > 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 20000}})", "simulation.rate: the internal rate"},
         {R"({"format": "jawari-scene/1", "simulation": {"modes": 0}})", "simulation.modes: must be between 1"},
+        {R"({"format": "jawari-scene/1", "simulation": {"static_pickup": 1}})",
+         "simulation.static_pickup: must be true or false"},
         {R"({"format": "jawari-scene/1", "simulation": {"modes": 10.5}})", "simulation.modes: must be a whole number"},
         {R"({"format": "jawari-scene/1", "simulation": {"duration": -1}})", "simulation.duration: must be > 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"duration": 1e9}})",

@@ -67,6 +67,15 @@ public:
             throw SceneError(at(key), "must be > 0 (got " + show(d) + ")");
         return d;
     }
+    bool boolean(const std::string& key, bool fallback)
+    {
+        if (!has(key))
+            return fallback;
+        const auto& v = raw(key);
+        if (!v.is_boolean())
+            throw SceneError(at(key), "must be true or false, got " + typeName(v));
+        return v.get<bool>();
+    }
     double nonNegative(const std::string& key, double fallback)
     {
         const double d = number(key, fallback);
@@ -506,13 +515,8 @@ Scene parseScene(const std::string& jsonText)
             scene.simulation.modes = static_cast<int>(*m);
         }
         scene.simulation.durationSeconds = r.positive("duration", scene.simulation.durationSeconds);
-        if (r.has("residual_compliance"))
-        {
-            const auto& v = r.raw("residual_compliance");
-            if (!v.is_boolean())
-                throw SceneError(r.at("residual_compliance"), "must be true or false, got " + typeName(v));
-            scene.simulation.residualCompliance = v.get<bool>();
-        }
+        scene.simulation.residualCompliance = r.boolean("residual_compliance", scene.simulation.residualCompliance);
+        scene.simulation.staticPickup = r.boolean("static_pickup", scene.simulation.staticPickup);
         if (const auto o = r.integer("output_rate"))
         {
             if (*o < 8000 || *o > 384000)

@@ -56,6 +56,7 @@ struct Simulation
     double durationSeconds = 1.0;
     int outputRateHz = 48000;
     bool residualCompliance = true;  // the voice's methods: the dropped modes' static compliance in series
+    bool staticPickup = true;  // the voice's methods: the modes above the output's Nyquist frequency read statically
 };
 
 struct Scene

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -61,13 +62,40 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
         coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
         coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
     }
-    pickupWeights_ = config.pickupWeights;
-    pickupWeights_.resize(M_, 0.0);
-    basePickupWeights_ = pickupWeights_;
-    pickupWeightsB_ = config.secondPickupWeights;
-    if (!pickupWeightsB_.empty())
-        pickupWeightsB_.resize(M_, 0.0);
-    basePickupWeightsB_ = pickupWeightsB_;
+    basePickupWeights_ = config.pickupWeights;
+    basePickupWeights_.resize(M_, 0.0);
+    basePickupWeightsB_ = config.secondPickupWeights;
+    if (!basePickupWeightsB_.empty())
+        basePickupWeightsB_.resize(M_, 0.0);
+    if (config.pickupBandHz < 0.0 || !std::isfinite(config.pickupBandHz))
+        throw std::invalid_argument("the pickup band must be a frequency >= 0 Hz");
+    pickupBandOmega_ = 2.0 * std::numbers::pi * config.pickupBandHz;
+    pickupWeights_.resize(M_);
+    pickupWeightsB_.resize(basePickupWeightsB_.size());
+    setPickupWeights();
+}
+
+void ModalSolver::setPickupWeights()
+{
+    for (int p = 0; p < M_; ++p)
+    {
+        const double kept = pickupBandOmega_ == 0.0 || omega_[p] <= pickupBandOmega_ ? pickupScale_ : 0.0;
+        pickupWeights_[p] = kept * basePickupWeights_[p];
+        if (!pickupWeightsB_.empty())
+            pickupWeightsB_[p] = kept * basePickupWeightsB_[p];
+    }
+}
+
+double ModalSolver::staticPickup(bool second, const double* shape) const
+{
+    if (pickupBandOmega_ == 0.0)
+        return 0.0;
+    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
+    double sum = 0.0;
+    for (int p = 0; p < M_; ++p)
+        if (omega_[p] > pickupBandOmega_)
+            sum += pickupScale_ * base[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
+    return sum;
 }
 
 // phi_p(x_j) for every point and mode, and what a force at each point does to the pickup.
@@ -94,8 +122,10 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
             hp += pickupWeights_[p] * shapes_[size_t(j) * M_ + p];
             hpB += pickupWeightsB_.empty() ? 0.0 : pickupWeightsB_[p] * shapes_[size_t(j) * M_ + p];
         }
-        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * hp;
-        pickupPhiWB_[j] = forceScale_ * contacts_[j].weight * hpB;
+        const double* shape = shapes_.data() + size_t(j) * M_;
+        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * (hp + staticPickup(false, shape));
+        pickupPhiWB_[j] = pickupWeightsB_.empty() ? 0.0
+                                                  : forceScale_ * contacts_[j].weight * (hpB + staticPickup(true, shape));
     }
 }
 
@@ -122,9 +152,11 @@ void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
             if (std::abs(excitationShape_[p]) > couplingFloor)
                 coupled_[p] = 1;
         }
-        pickupPhiE_ = forceScale_ * kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_);
+        pickupPhiE_ = forceScale_ * (kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_)
+                                     + staticPickup(false, excitationShape_.data()));
         if (!pickupWeightsB_.empty())
-            pickupPhiEB_ = forceScale_ * kernels::dot(pickupWeightsB_.data(), excitationShape_.data(), M_);
+            pickupPhiEB_ = forceScale_ * (kernels::dot(pickupWeightsB_.data(), excitationShape_.data(), M_)
+                                          + staticPickup(true, excitationShape_.data()));
     }
 }
 
@@ -320,14 +352,13 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         sigma_[p] = sigma[p];
         coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
         coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + releaseSigma_, dt_);
-        pickupWeights_[p] = pickupScale * basePickupWeights_[p];
-        if (!pickupWeightsB_.empty())
-            pickupWeightsB_[p] = pickupScale * basePickupWeightsB_[p];
     }
+    pickupScale_ = pickupScale;
+    setPickupWeights();
     state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
-    pickup_ = projectPickup(state_.h(), pickupPhiW_, pickupPhiE_);
-    if (const double* h2 = state_.h2())
-        pickupB_ = projectPickup(h2, pickupPhiWB_, pickupPhiEB_);
+    pickup_ = projectPickup(false, pickupPhiW_, pickupPhiE_);
+    if (state_.h2() != nullptr)
+        pickupB_ = projectPickup(true, pickupPhiWB_, pickupPhiEB_);
     if (compliance_.active())
     {
         compliance_.rescale(complianceScale, contacts_);
@@ -337,15 +368,18 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
     reachStale_ = true;  // the same motion at another pitch holds another energy
 }
 
-// For pickup weights h over the active modes: what a force at each point and at the excitation does
-// to the pickup ((dt^2/mu) w_j h . phi_j, (dt^2/mu) h . phi_e); returns the pickup h . q^n.
-double ModalSolver::projectPickup(const double* h, std::vector<double>& phiW, double& phiE) const
+// For a pickup's weights h over the active modes: what a force at each point and at the excitation
+// does to the pickup ((dt^2/mu) w_j h . phi_j, (dt^2/mu) h . phi_e, with the static response of the
+// modes above the pickup band); returns the pickup h . q^n.
+double ModalSolver::projectPickup(bool second, std::vector<double>& phiW, double& phiE) const
 {
+    const double* h = second ? state_.h2() : state_.h();
     const int Ma = state_.activeCount();
     for (int j = 0; j < P_ && !transform_; ++j)
-        phiW[size_t(j)] = forceScale_ * contacts_[j].weight * kernels::dot(h, state_.phi(j), Ma);
+        phiW[size_t(j)] = forceScale_ * contacts_[j].weight
+                        * (kernels::dot(h, state_.phi(j), Ma) + staticPickup(second, shapes_.data() + size_t(j) * M_));
     if (!excitationShape_.empty())
-        phiE = forceScale_ * kernels::dot(h, state_.phiE(), Ma);
+        phiE = forceScale_ * (kernels::dot(h, state_.phiE(), Ma) + staticPickup(second, excitationShape_.data()));
     return kernels::dot(h, state_.q(), Ma);
 }
 

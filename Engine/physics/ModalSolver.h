@@ -48,6 +48,10 @@ struct ModalSolverConfig
     std::vector<double> contactShapes;
     std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
     std::vector<double> secondPickupWeights;  // a second pickup's (the right channel's); empty for none
+    // The pickups read the modes up to this frequency (Hz) as they move, and the modes above it by
+    // their static response to the contact and excitation forces: their ringing is above what the
+    // voice's decimator passes (it stops from the host's Nyquist frequency). 0: every mode as it moves.
+    double pickupBandHz = 0.0;
     // The reference grid's transform to the contact points; empty: projection.
     GridTransformFactory transform;
     // Where setExternalForce() pushes (the voice's pluck); its modes are kept active.
@@ -210,7 +214,12 @@ private:
     void refreshReach();
     void wakeAll();
     void wake(int j);
-    double projectPickup(const double* h, std::vector<double>& phiW, double& phiE) const;
+    double projectPickup(bool second, std::vector<double>& phiW, double& phiE) const;
+    // Sets the pickup weights in use, pickupScale_ times the base ones, zero above the pickup band.
+    void setPickupWeights();
+    // sum over the modes above the pickup band of h_p shape_p / (1 - a_p + e_p): a force on `shape`
+    // held still moves those modes by that much per unit of (dt^2/mu) force, seen by the pickup.
+    double staticPickup(bool second, const double* shape) const;
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
 
     int M_ = 0;  // modes of the model
@@ -223,6 +232,8 @@ private:
     std::vector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
     double releaseSigma_ = 0.0;
     std::vector<double> basePickupWeights_, basePickupWeightsB_;
+    double pickupScale_ = 1.0;
+    double pickupBandOmega_ = 0.0;  // rad/s; 0: every mode
     std::vector<double> omega_, sigma_, pickupWeights_, pickupWeightsB_;  // B: the second pickup's
     std::vector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
     std::vector<char> coupled_;            // mode p touches some contact point

@@ -39,6 +39,10 @@ struct VoiceConfig
     // The dropped modes' static compliance in series with the contact (docs/design.md section 5). Off,
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
+    // The pickups read the modes above the host's Nyquist frequency by their static response to the
+    // forces (ModalSolverConfig::pickupBandHz), which the decimator passes; their ringing it stops.
+    // Off, or without oversampling, the pickups read every mode as it moves.
+    bool staticPickupAboveNyquist = true;
     ContactMethod method = ContactMethod::energyConserving;
     // Step every mode (see ModalSolverConfig::keepEveryMode): the plugin's voices.
     bool keepEveryMode = false;
