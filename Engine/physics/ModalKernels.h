@@ -35,16 +35,17 @@ inline double horizontalSum(const double* partial)
 }
 
 // q~ = a q - e qPrev written over qPrev; returns h . q~, and h2 . q~ into `second` when h2 is
-// given (a second pickup). The single-step path; contact projections follow, after any explicit
-// force has joined q~.
+// given (a second pickup). The pickups read the first Mh modes only (their weights are zero beyond:
+// ModalState::pickupCount(); Mh a multiple of kBlock, or M). The single-step path; contact
+// projections follow, after any explicit force has joined q~.
 template <bool Second>
 inline double predictWith(const double* __restrict a, const double* __restrict e, const double* __restrict current,
                           double* __restrict previous, const double* __restrict h, const double* __restrict h2, int M,
-                          double& second)
+                          int Mh, double& second)
 {
     alignas(64) double ph[kBlock] = {}, ph2[kBlock] = {};
     int p = 0;
-    for (; p + kBlock <= M; p += kBlock)
+    for (; p + kBlock <= Mh; p += kBlock)
     {
 #pragma omp simd aligned(ph, ph2 : 64)
         for (int k = 0; k < kBlock; ++k)
@@ -55,6 +56,12 @@ inline double predictWith(const double* __restrict a, const double* __restrict e
             if constexpr (Second)
                 ph2[k] += h2[p + k] * next;
         }
+    }
+    for (; p + kBlock <= M; p += kBlock)
+    {
+#pragma omp simd
+        for (int k = 0; k < kBlock; ++k)
+            previous[p + k] = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
     }
     double y = horizontalSum(ph);
     double y2 = Second ? horizontalSum(ph2) : 0.0;
@@ -71,36 +78,44 @@ inline double predictWith(const double* __restrict a, const double* __restrict e
 }
 
 inline double predict(const double* a, const double* e, const double* current, double* previous, const double* h,
-                      const double* h2, int M, double& second)
+                      const double* h2, int M, int Mh, double& second)
 {
-    return h2 != nullptr ? predictWith<true>(a, e, current, previous, h, h2, M, second)
-                         : predictWith<false>(a, e, current, previous, h, h2, M, second);
+    return h2 != nullptr ? predictWith<true>(a, e, current, previous, h, h2, M, Mh, second)
+                         : predictWith<false>(a, e, current, previous, h, h2, M, Mh, second);
 }
 
 // predict() and the contact projections of up to kMaxFused points in the same pass: for k < P,
 // u[rows[k]] = phi_j . q~ with j = rows[k] and phi_j at phi + j stride. One read of the state instead
-// of 1 + P. M a multiple of 8. Returns h . q~ (and h2 . q~ into `second` when h2 is given).
+// of 1 + P. M and Mh (the modes the pickups read) multiples of 8. Returns h . q~ (and h2 . q~ into
+// `second` when h2 is given).
 inline constexpr int kMaxFused = 8;
 template <bool Second>
 inline double predictProjectWith(const double* __restrict a, const double* __restrict e,
                                  const double* __restrict current, double* __restrict previous,
                                  const double* __restrict h, const double* __restrict h2,
                                  const double* __restrict phi, int stride, const int* __restrict rows, int P, int M,
-                                 double* __restrict u, double& second)
+                                 int Mh, double* __restrict u, double& second)
 {
     alignas(64) double ph[8] = {}, ph2[8] = {};
     alignas(64) double pu[kMaxFused][8] = {};
     for (int p = 0; p < M; p += 8)
     {
         alignas(64) double next[8];
-#pragma omp simd aligned(ph, ph2, next : 64)
+#pragma omp simd aligned(next : 64)
         for (int k = 0; k < 8; ++k)
         {
             next[k] = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
             previous[p + k] = next[k];
-            ph[k] += h[p + k] * next[k];
-            if constexpr (Second)
-                ph2[k] += h2[p + k] * next[k];
+        }
+        if (p < Mh)
+        {
+#pragma omp simd aligned(ph, ph2, next : 64)
+            for (int k = 0; k < 8; ++k)
+            {
+                ph[k] += h[p + k] * next[k];
+                if constexpr (Second)
+                    ph2[k] += h2[p + k] * next[k];
+            }
         }
         for (int j = 0; j < P; ++j)
         {
@@ -118,10 +133,11 @@ inline double predictProjectWith(const double* __restrict a, const double* __res
 
 inline double predictProject(const double* a, const double* e, const double* current, double* previous,
                              const double* h, const double* h2, const double* phi, int stride, const int* rows, int P,
-                             int M, double* u, double& second)
+                             int M, int Mh, double* u, double& second)
 {
-    return h2 != nullptr ? predictProjectWith<true>(a, e, current, previous, h, h2, phi, stride, rows, P, M, u, second)
-                         : predictProjectWith<false>(a, e, current, previous, h, h2, phi, stride, rows, P, M, u, second);
+    return h2 != nullptr
+             ? predictProjectWith<true>(a, e, current, previous, h, h2, phi, stride, rows, P, M, Mh, u, second)
+             : predictProjectWith<false>(a, e, current, previous, h, h2, phi, stride, rows, P, M, Mh, u, second);
 }
 
 // u[rows[k]] = phi_j . x (j = rows[k], phi_j at phi + j stride) for k < P <= kMaxFused, in one pass
@@ -151,7 +167,7 @@ inline void projectRows(const double* __restrict phi, int stride, const int* __r
 // correction, which the caller folds in as c1 a phi), settled = q^m, with h . and phi . of X and Y.
 // Per two steps: six loads and three stores per mode, against twelve and four for two single
 // steps; the state stays in registers between the steps. phi may be null (no contact point); h2
-// (a second pickup) may be null.
+// (a second pickup) may be null. The pickups read the first Mh modes (a multiple of kBlock, or M).
 struct PairReadout
 {
     double pickup1 = 0.0, contact1 = 0.0, pickup2 = 0.0, contact2 = 0.0;
@@ -162,14 +178,13 @@ template <bool Second>
 inline void pairStepWith(const double* __restrict a, const double* __restrict e, double* __restrict X,
                          double* __restrict Y, double* __restrict settled, const double* __restrict h,
                          const double* __restrict h2, const double* __restrict phi, double c1, double c2, int M,
-                         PairReadout& out)
+                         int Mh, PairReadout& out)
 {
     alignas(64) double ph1[kBlock] = {}, pc1[kBlock] = {}, ph2[kBlock] = {}, pc2[kBlock] = {};
     alignas(64) double sh1[kBlock] = {}, sh2[kBlock] = {};
     static constexpr double zeros[kBlock] = {};
-    int p = 0;
-    for (; p + kBlock <= M; p += kBlock)
-    {
+    // One block of kBlock modes from p, read by the pickups or not.
+    auto block = [&]<bool Pickups>(int p) {
         const double* __restrict ph = phi != nullptr ? phi + p : zeros;
 #pragma omp simd aligned(ph1, pc1, ph2, pc2, sh1, sh2 : 64)
         for (int k = 0; k < kBlock; ++k)
@@ -182,17 +197,25 @@ inline void pairStepWith(const double* __restrict a, const double* __restrict e,
             settled[p + k] = now;
             X[p + k] = t1;
             Y[p + k] = t2;
-            ph1[k] += h[p + k] * t1;
             pc1[k] += ph[k] * t1;
-            ph2[k] += h[p + k] * t2;
             pc2[k] += ph[k] * t2;
-            if constexpr (Second)
+            if constexpr (Pickups)
             {
-                sh1[k] += h2[p + k] * t1;
-                sh2[k] += h2[p + k] * t2;
+                ph1[k] += h[p + k] * t1;
+                ph2[k] += h[p + k] * t2;
+                if constexpr (Second)
+                {
+                    sh1[k] += h2[p + k] * t1;
+                    sh2[k] += h2[p + k] * t2;
+                }
             }
         }
-    }
+    };
+    int p = 0;
+    for (; p + kBlock <= Mh; p += kBlock)
+        block.template operator()<true>(p);
+    for (; p + kBlock <= M; p += kBlock)
+        block.template operator()<false>(p);
     double y1 = horizontalSum(ph1), u1 = horizontalSum(pc1), y2 = horizontalSum(ph2), u2 = horizontalSum(pc2);
     double s1 = Second ? horizontalSum(sh1) : 0.0, s2 = Second ? horizontalSum(sh2) : 0.0;
     for (; p < M; ++p)
@@ -219,12 +242,12 @@ inline void pairStepWith(const double* __restrict a, const double* __restrict e,
 }
 
 inline void pairStep(const double* a, const double* e, double* X, double* Y, double* settled, const double* h,
-                     const double* h2, const double* phi, double c1, double c2, int M, PairReadout& out)
+                     const double* h2, const double* phi, double c1, double c2, int M, int Mh, PairReadout& out)
 {
     if (h2 != nullptr)
-        pairStepWith<true>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, out);
+        pairStepWith<true>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, Mh, out);
     else
-        pairStepWith<false>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, out);
+        pairStepWith<false>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, Mh, out);
 }
 
 // x . y

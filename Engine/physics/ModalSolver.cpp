@@ -490,7 +490,8 @@ void ModalSolver::predictPairStep()
     if (state_.layout() == ModalState::Layout::pairBoundary)
     {
         kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
-                          state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(), pass_);
+                          state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(),
+                          state_.pickupCount(), pass_);
         pairPickup_ = pass_.pickup1;
         pairU_ = pass_.contact1;
         pairPickupB_ = pass_.second1;
@@ -665,10 +666,11 @@ void ModalSolver::predictAtPoints()
     if (fused > 0)
         pickupTilde_ =
             kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), state_.phi(0),
-                                    state_.stride(), liveRows_.data(), fused, Mpad, uTilde_.data(), pickupTildeB_);
+                                    state_.stride(), liveRows_.data(), fused, Mpad, state_.pickupCount(),
+                                    uTilde_.data(), pickupTildeB_);
     else
         pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
-                                        pickupTildeB_);
+                                        state_.pickupCount(), pickupTildeB_);
     if (externalForce_ != 0.0)
     {
         // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.

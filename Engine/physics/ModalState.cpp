@@ -28,6 +28,7 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
     Ma_ = static_cast<int>(active_.size());
     // Padding to whole blocks keeps the kernels off their scalar tail loops (a = e = h = phi = 0).
     Mpad_ = exactSize ? Ma_ : (Ma_ + kernels::kBlock - 1) / kernels::kBlock * kernels::kBlock;
+    pickupCount_ = Mpad_;  // until fillTables() has the weights
     activeNormal_.resize(Ma_);
     activeReleased_.resize(Ma_);
     indexOfMode_.assign(M_, -1);
@@ -70,6 +71,7 @@ ModalState& ModalState::operator=(const ModalState& other)
     Ma_ = other.Ma_;
     Mpad_ = other.Mpad_;
     stride_ = other.stride_;
+    pickupCount_ = other.pickupCount_;
     contactCount_ = other.contactCount_;
     pairable_ = other.pairable_;
     active_ = other.active_;
@@ -143,6 +145,10 @@ void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
         h_[i] = pickupWeights[p];
         h2_[i] = hasSecondPickup_ ? secondPickupWeights[p] : 0.0;
     }
+    int read = Ma_;
+    while (read > 0 && h_[read - 1] == 0.0 && h2_[read - 1] == 0.0)
+        --read;
+    pickupCount_ = Mpad_ == Ma_ ? Ma_ : std::min(Mpad_, (read + kernels::kBlock - 1) / kernels::kBlock * kernels::kBlock);
     for (int set = 0; set < 2; ++set)
     {
         const double* a = set == 0 ? aNormal_ : aReleased_;

@@ -62,6 +62,10 @@ public:
     int activeCount() const { return Ma_; }
     int paddedCount() const { return Mpad_; }
     int stride() const { return stride_; }
+    // The leading active modes the pickups read: up to the last with a nonzero weight (the modes
+    // above the pickup band have none: ModalSolverConfig::pickupBandHz), rounded up to a kernel
+    // block, at most paddedCount(). The kernels read no pickup weight beyond it.
+    int pickupCount() const { return pickupCount_; }
     int activeMode(int i) const { return active_[size_t(i)]; }
     int indexOfMode(int p) const { return p < M_ ? indexOfMode_[size_t(p)] : -1; }  // -1: not active
     bool pairable() const { return pairable_; }
@@ -128,6 +132,7 @@ private:
     int Ma_ = 0;    // modes stepped (active)
     int Mpad_ = 0;  // Ma_ rounded up to the kernels' block
     int stride_ = 0;
+    int pickupCount_ = 0;
     int contactCount_ = 0;
     bool pairable_ = false;
     std::vector<int> active_;
