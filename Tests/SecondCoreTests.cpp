@@ -109,7 +109,7 @@ TEST_CASE("A voice copied into another built alike steps exactly as the original
 {
     auto pack = buildVoicePack(structureFor(ObstacleShape::parabola));
     Voice& voice = *pack->voices[0];
-    Voice& clone = *pack->clones[0];
+    Voice& clone = *pack->backups[0];
     voice.setContactLaw(ContactLaw{1e13, 1.3}, 1e-4);  // the bridge pushed into the string
     voice.pluckFromShape(2e-3);
     std::vector<double> a(64 * size_t(pack->oversampling)), b(a.size()), a2(a.size()), b2(a.size());

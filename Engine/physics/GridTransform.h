@@ -32,8 +32,8 @@ public:
 using GridTransformFactory = std::function<std::unique_ptr<GridTransform>(const std::vector<ContactPoint>& contacts,
                                                                           double lengthMetres, int modes)>;
 
-// A solver's transform, owned. Solvers are copied only without one (the voices' clones, which step
-// on another thread: Instrument); the reference's solvers, on the transform, are never copied, and
+// A solver's transform, owned. Solvers are copied only without one (the voices' backups for a
+// second core: StringWorker); the reference's solvers, on the transform, are never copied, and
 // copying one is refused.
 class OwnedGridTransform
 {

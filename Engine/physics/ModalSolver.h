@@ -84,7 +84,7 @@ public:
     // RT: this solver becomes the other's exact copy, its state and every table (solvers on the grid
     // transform excepted: OwnedGridTransform). Only into a solver built from the same configuration,
     // whose arrays have the same sizes and reserved capacities: then nothing is allocated (the
-    // instrument's clones for a second core: StringWorker).
+    // instrument's backups for a second core: StringWorker).
     ModalSolver& operator=(const ModalSolver&) = default;
 
     // OFF/CT: modal displacements at t = 0 with zero velocity; q^{-1} is set from each mode's

@@ -180,7 +180,7 @@ struct VoicePack
     std::vector<double> secondBlocks;   // the same from each string's second pickup (the right channel)
     // A second core's share (StringWorker): each slot's backup of its voice (a copy the audio thread
     // steps when the worker is late), and the blocks the worker steps the voice into.
-    std::vector<std::unique_ptr<Voice>> clones;
+    std::vector<std::unique_ptr<Voice>> backups;
     std::vector<double> workerBlocks, workerSecondBlocks;
     int oversampling = 1;
 

@@ -24,9 +24,9 @@ void Instrument::stepStrings(Sounding& s, int samples)
             s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
 }
 
-// The worker takes the last strings and steps them from the front of its share; before offering
-// each one the audio thread copies it into its backup (a clone), so the string's own arrays stay in
-// the worker's cache from chunk to chunk. The audio thread steps the first strings, then collects
+// The worker takes the last strings and steps them itself, from the front of its share (a string it
+// keeps from chunk to chunk stays in its cache); before offering each one the audio thread copies
+// it into its backup. The audio thread steps the first strings, then collects
 // the worker's from the back: a string the worker finished is done (its blocks are the worker's),
 // and one the worker has not started, or is still stepping after 1.5 times the audio thread's own
 // mean time per string, the audio thread steps from its backup, which becomes the string.
@@ -46,7 +46,7 @@ void Instrument::stepWithWorker(Sounding& s, int samples)
     for (int k = own; k < n; ++k)
     {
         const size_t slot = size_t(s.slots[size_t(k)]);
-        *pack_->clones[slot] = *s.voices[size_t(k)];
+        *pack_->backups[slot] = *s.voices[size_t(k)];
         tasks[size_t(k - own)] = {s.voices[size_t(k)], pack_->workerBlocks.data() + slot * chunkSteps,
                                   pack_->workerSecondBlocks.data() + slot * chunkSteps};
         worker_->offer(k - own, tasks[size_t(k - own)]);
@@ -69,7 +69,7 @@ void Instrument::stepWithWorker(Sounding& s, int samples)
         }
         ++(outcome == StringWorker::Outcome::revoked ? revoked : unstarted);
         const size_t slot = size_t(s.slots[size_t(k)]);
-        std::swap(pack_->voices[slot], pack_->clones[slot]);  // the backup is the string
+        std::swap(pack_->voices[slot], pack_->backups[slot]);  // the backup is the string
         s.voices[size_t(k)] = pack_->voices[slot].get();
         s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
     }

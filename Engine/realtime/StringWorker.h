@@ -44,7 +44,7 @@ public:
     };
     enum class Outcome
     {
-        worker,      // stepped by the worker: take the clone and its blocks
+        worker,      // stepped by the worker: take its blocks
         notStarted,  // the caller steps the original
         revoked      // the worker was late: the caller steps the original
     };

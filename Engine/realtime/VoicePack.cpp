@@ -211,9 +211,9 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     pack->stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     pack->secondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     // Built as the voices are (not copied from them): the same reserved capacities, so copying a
-    // voice into its clone never allocates.
+    // voice into its backup never allocates.
     for (int i = 0; i < kSlots; ++i)
-        pack->clones.push_back(std::make_unique<Voice>(config, solverConfig));
+        pack->backups.push_back(std::make_unique<Voice>(config, solverConfig));
     pack->workerBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     pack->workerSecondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     auto pickupSine = [](double fraction) { return std::max(std::sin(std::numbers::pi * fraction), 0.02); };
