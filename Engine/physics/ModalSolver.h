@@ -48,9 +48,11 @@ struct ModalSolverConfig
     std::vector<double> contactShapes;
     std::vector<double> pickupWeights;  // h_p: the pickup reads sum_p h_p q_p
     std::vector<double> secondPickupWeights;  // a second pickup's (the right channel's); empty for none
-    // The pickups read the modes up to this frequency (Hz) as they move, and the modes above it by
-    // their static response to the contact and excitation forces: their ringing is above what the
-    // voice's decimator passes (it stops from the host's Nyquist frequency). 0: every mode as it moves.
+    // The pickups read the modes up to this frequency (Hz) as they move, and the modes from 1.25
+    // times it by their static response to the contact and excitation forces: their ringing is above
+    // what the voice's decimator passes (it stops from the host's Nyquist frequency). Between the two,
+    // a share of each, linear in its frequency (a pitch bend carries a mode across without a step).
+    // 0: every mode as it moves.
     double pickupBandHz = 0.0;
     // The reference grid's transform to the contact points; empty: projection.
     GridTransformFactory transform;
@@ -126,6 +128,9 @@ public:
     // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H (of the
     // second pickup with `second`).
     double pickupCompliance(bool second = false) const;
+    // RT: what the pickup does not read of the modes above its band as they are now (their static
+    // share of h_p q_p): a held shape's part that the first sample leaves out.
+    double pickupAboveBand(bool second = false) const;
 
     // RT: new frequencies and damping for every mode (omega, sigma: M values each, rad/s and 1/s),
     // the residual compliance scaled by `complianceScale` from the configured one (1/r^2 when every
@@ -215,10 +220,12 @@ private:
     void wakeAll();
     void wake(int j);
     double projectPickup(bool second, std::vector<double>& phiW, double& phiE) const;
-    // Sets the pickup weights in use, pickupScale_ times the base ones, zero above the pickup band.
+    double movingShare(int p) const;  // of mode p, read as it moves (ModalSolverConfig::pickupBandHz)
+    // Sets the pickup weights in use: pickupScale_ times the base ones times each mode's moving share.
     void setPickupWeights();
-    // sum over the modes above the pickup band of h_p shape_p / (1 - a_p + e_p): a force on `shape`
-    // held still moves those modes by that much per unit of (dt^2/mu) force, seen by the pickup.
+    // sum over the modes above the pickup band of their static share of h_p shape_p / (1 - a_p + e_p):
+    // a force on `shape` held still moves those modes by that much per unit of (dt^2/mu) force, seen
+    // by the pickup.
     double staticPickup(bool second, const double* shape) const;
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
 

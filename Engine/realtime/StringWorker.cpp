@@ -126,8 +126,9 @@ void StringWorker::runJob()
     for (int i = 0; i < count_; ++i)
     {
         auto& state = state_[size_t(i)];
-        while (state.load(std::memory_order_acquire) == unready)
-            cpuRelax();  // the audio thread offers every task before it collects any
+        // The audio thread offers every task of a job right after posting it, before it steps anything.
+        while (state.load(std::memory_order_acquire) == unready && !stopping_.load(std::memory_order_acquire))
+            cpuRelax();
         int expected = posted;
         if (!state.compare_exchange_strong(expected, stepping, std::memory_order_acq_rel))
             continue;

@@ -234,11 +234,13 @@ void Voice::process(double* out, int numSamples)
 {
     for (int m = 0; m < numSamples; ++m)
     {
+        // A held shape's history is the whole shape, the modes the pickup reads statically included.
+        const double heldAboveBand = primeDecimator_ ? solver_.pickupAboveBand() : 0.0;
         for (int i = 0; i < oversampling_; ++i)
             block_[i] = nextInternalSample();
         if (primeDecimator_)
         {
-            decimator_.prime(block_[0]);
+            decimator_.prime(block_[0] + heldAboveBand);
             primeDecimator_ = false;
         }
         out[m] = guarded(decimator_.process(block_.data()));

@@ -120,6 +120,8 @@ public:
     // static compliance seen by the pickup and H the most energy the string has legitimately had
     // (measured after the initial shape and after each pluck pulse): no physical motion gets there.
     long blowUps() const { return blowUps_; }
+    // The level beyond which a sample counts as running away (above); infinite during a pluck pulse.
+    double runawayLimit() const { return runawayLimit_; }
 
     // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
     // since the last call.
