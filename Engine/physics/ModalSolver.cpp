@@ -72,6 +72,11 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
     pickupBandOmega_ = 2.0 * std::numbers::pi * config.pickupBandHz;
     pickupWeights_.resize(M_);
     pickupWeightsB_.resize(basePickupWeightsB_.size());
+    if (pickupBandOmega_ > 0.0)
+    {
+        staticWeights_.resize(M_);
+        staticWeightsB_.resize(basePickupWeightsB_.size());
+    }
     setPickupWeights();
 }
 
@@ -88,34 +93,37 @@ void ModalSolver::setPickupWeights()
 {
     for (int p = 0; p < M_; ++p)
     {
-        const double kept = pickupScale_ * movingShare(p);
+        const double moving = movingShare(p);
+        const double kept = pickupScale_ * moving;
         pickupWeights_[p] = kept * basePickupWeights_[p];
         if (!pickupWeightsB_.empty())
             pickupWeightsB_[p] = kept * basePickupWeightsB_[p];
+        if (!staticWeights_.empty())
+        {
+            staticWeights_[p] = (1.0 - moving) * pickupScale_ * basePickupWeights_[p];
+            if (!staticWeightsB_.empty())
+                staticWeightsB_[p] = (1.0 - moving) * pickupScale_ * basePickupWeightsB_[p];
+        }
     }
 }
 
 double ModalSolver::staticPickup(bool second, const double* shape) const
 {
-    if (pickupBandOmega_ == 0.0)
-        return 0.0;
-    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
+    const auto& w = second ? staticWeightsB_ : staticWeights_;
     double sum = 0.0;
-    for (int p = 0; p < M_; ++p)
-        if (const double share = 1.0 - movingShare(p); share > 0.0)
-            sum += share * pickupScale_ * base[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
+    for (size_t p = 0; p < w.size(); ++p)
+        if (w[p] != 0.0)
+            sum += w[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
     return sum;
 }
 
 double ModalSolver::pickupAboveBand(bool second) const
 {
-    if (pickupBandOmega_ == 0.0)
-        return 0.0;
-    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
+    const auto& w = second ? staticWeightsB_ : staticWeights_;
     double sum = 0.0;
-    for (int p = 0; p < M_ && !base.empty(); ++p)
-        if (const int i = state_.indexOfMode(p); i >= 0)
-            sum += (1.0 - movingShare(p)) * pickupScale_ * base[p] * state_.mode(i).now;
+    for (int p = 0; p < static_cast<int>(w.size()); ++p)
+        if (const int i = state_.indexOfMode(p); i >= 0 && w[size_t(p)] != 0.0)
+            sum += w[size_t(p)] * state_.mode(i).now;
     return sum;
 }
 

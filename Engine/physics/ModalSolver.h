@@ -241,6 +241,9 @@ private:
     std::vector<double> basePickupWeights_, basePickupWeightsB_;
     double pickupScale_ = 1.0;
     double pickupBandOmega_ = 0.0;  // rad/s; 0: every mode
+    // The part of each pickup weight read statically, (1 - moving share) pickupScale_ h_p; empty
+    // without a pickup band (staticWeightsB_ also without a second pickup).
+    std::vector<double> staticWeights_, staticWeightsB_;
     std::vector<double> omega_, sigma_, pickupWeights_, pickupWeightsB_;  // B: the second pickup's
     std::vector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
     std::vector<char> coupled_;            // mode p touches some contact point
