@@ -32,6 +32,12 @@ int main(int argc, char** argv)
     {
         if (std::strcmp(argv[i], "--quick") == 0)
             quick = true;
+        else if (argv[i][0] == '-' || outPath != nullptr)
+        {
+            std::fprintf(stderr, "jawari-accuracy: unknown option or second file '%s'\nusage: jawari-accuracy [out.csv] [--quick]\n",
+                         argv[i]);
+            return 2;
+        }
         else
             outPath = argv[i];
     }

@@ -100,6 +100,11 @@ int main(int argc, char** argv)
         }
         else if (std::strcmp(argv[i], "--seconds") == 0 && i + 1 < argc)
             seconds = std::atof(argv[++i]);
+        else if (argv[i][0] == '-' || path != nullptr)
+        {
+            std::fprintf(stderr, "jawari-polyphony: unknown option or second file '%s'\n", argv[i]);
+            return 2;
+        }
         else
             path = argv[i];
     }

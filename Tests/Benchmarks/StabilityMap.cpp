@@ -20,6 +20,11 @@ using namespace jawari;
 
 int main(int argc, char** argv)
 {
+    if (argc > 2 || (argc == 2 && argv[1][0] == '-'))
+    {
+        std::fprintf(stderr, "usage: jawari-stability [out.csv]\n");
+        return 2;
+    }
     FILE* out = argc > 1 ? std::fopen(argv[1], "w") : stdout;
     if (out == nullptr)
         return 1;
