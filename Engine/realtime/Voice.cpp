@@ -1,6 +1,7 @@
 #include "realtime/Voice.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -84,7 +85,7 @@ Voice::Voice(const VoiceConfig& config)
 
 Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
     : solver_(solverConfig)
-    , decimator_(config.oversampling, config.hostRateHz)
+    , decimator_(config.ownDecimator ? config.oversampling : 1, config.hostRateHz)
     , oversampling_(config.oversampling)
     , hostRate_(config.hostRateHz)
     , quantity_(config.quantity)
@@ -232,6 +233,7 @@ double Voice::sampleAfterStep()
 
 void Voice::process(double* out, int numSamples)
 {
+    assert(decimator_.factor() == oversampling_ && "Voice::process needs the voice's own decimator");
     for (int m = 0; m < numSamples; ++m)
     {
         // A held shape's history is the whole shape, the modes the pickup reads statically included.

@@ -44,6 +44,10 @@ struct VoiceConfig
     // Off, or without oversampling, the pickups read every mode as it moves.
     bool staticPickupAboveNyquist = true;
     ContactMethod method = ContactMethod::energyConserving;
+    // The voice decimates its own output (process()). Off for a voice whose internal-rate samples a
+    // caller mixes before one decimator per channel (the instrument's: processInternal() only):
+    // it then carries no filter, and a copy of it (the second core's backup) is a third smaller.
+    bool ownDecimator = true;
     // Step every mode (see ModalSolverConfig::keepEveryMode): the plugin's voices.
     bool keepEveryMode = false;
     // The string's second polarisation, its coupling folded into the modes (coupledModesConfig):
@@ -72,7 +76,7 @@ public:
     int contactPoints() const { return solver_.contactCount(); }
     int oversampling() const { return oversampling_; }
     double internalRateHz() const { return oversampling_ * hostRate_; }
-    int latencySamples() const { return decimator_.latencyHostSamples(); }  // host samples
+    int latencySamples() const { return decimator_.latencyHostSamples(); }  // host samples; 0 without its own decimator
 
     // OFF: the string at rest in the triangular shape of the given amplitude at x (the scene's
     // pluck), as the reference starts: held there before t = 0, so the decimator's history is the
@@ -86,7 +90,8 @@ public:
     void pluckFromShape(double amplitudeMetres);
     void release();                             // RT: note-off, the string rings down over releaseSeconds
     void cancelRelease();                       // RT: back to the string's own damping (a new note)
-    void process(double* out, int numSamples);  // RT: numSamples host samples of the pickup quantity
+    // RT: numSamples host samples of the pickup quantity. Only with its own decimator.
+    void process(double* out, int numSamples);
     // RT: the same motion at the internal rate, undecimated: oversampling() samples per host sample,
     // numSamples host samples' worth, for a caller that mixes strings before one decimator per
     // channel (the decimator is linear). The same guard as process(), sample by sample.

@@ -166,6 +166,7 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
                         ? ContactMethod::energyConserving
                         : structure.method;
     config.keepEveryMode = true;
+    config.ownDecimator = false;  // mixed at the internal rate, then decimated per channel
     config.secondPolarisation = instrumentSecondPolarisation(structure);
     const ModalSolverConfig solverConfig = voiceSolverConfig(config);
     for (int i = 0; i < kSlots; ++i)
@@ -202,9 +203,9 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
             pack->drawObstacle[size_t(k)] = o.height;
         }
     }
-    pack->latencySamples = pack->voices.front()->latencySamples();
     pack->oversampling = quality.oversampling;
     pack->decimators.assign(2, Decimator(quality.oversampling, structure.hostRateHz));
+    pack->latencySamples = pack->decimators.front().latencyHostSamples();
     const size_t chunkSteps = size_t(Instrument::kChunk) * size_t(quality.oversampling);
     pack->mixLeft.assign(chunkSteps, 0.0);
     pack->mixRight.assign(chunkSteps, 0.0);
