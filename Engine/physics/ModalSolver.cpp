@@ -38,44 +38,46 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     liveRows_.resize(P_);
     pressing_.reserve(P_);
     reach_.assign(P_, std::numeric_limits<double>::infinity());
-    kappa_.assign(M_, 0.0);
+    kappa_.edit().assign(M_, 0.0);
     leaveOutOfReach_ = config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving && P_ >= 2
                        && !system_.isDiagonal();
     computeReach();
     if (transform_)
     {
-        shapes_.clear();  // the transform reaches the points
-        shapes_.shrink_to_fit();
+        shapes_.edit().clear();  // the transform reaches the points
+        shapes_.edit().shrink_to_fit();
     }
     setState(std::vector<double>(M_, 0.0), std::vector<double>(M_, 0.0));
 }
 
 void ModalSolver::buildModeTables(const ModalSolverConfig& config)
 {
-    coeffs_.resize(M_);
-    coeffsReleased_.resize(M_);
+    auto& coeffs = coeffs_.edit();
+    auto& coeffsReleased = coeffsReleased_.edit();
+    coeffs.resize(M_);
+    coeffsReleased.resize(M_);
     omega_ = config.modes.omega;
     sigma_ = config.modes.sigma;
     releaseSigma_ = config.releaseSigma;
     for (int p = 0; p < M_; ++p)
     {
-        coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
-        coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
+        coeffs[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
+        coeffsReleased[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
     }
     basePickupWeights_ = config.pickupWeights;
-    basePickupWeights_.resize(M_, 0.0);
+    basePickupWeights_.edit().resize(M_, 0.0);
     basePickupWeightsB_ = config.secondPickupWeights;
     if (!basePickupWeightsB_.empty())
-        basePickupWeightsB_.resize(M_, 0.0);
+        basePickupWeightsB_.edit().resize(M_, 0.0);
     if (config.pickupBandHz < 0.0 || !std::isfinite(config.pickupBandHz))
         throw std::invalid_argument("the pickup band must be a frequency >= 0 Hz");
     pickupBandOmega_ = 2.0 * std::numbers::pi * config.pickupBandHz;
-    pickupWeights_.resize(M_);
-    pickupWeightsB_.resize(basePickupWeightsB_.size());
+    pickupWeights_.edit().resize(M_);
+    pickupWeightsB_.edit().resize(basePickupWeightsB_.size());
     if (pickupBandOmega_ > 0.0)
     {
-        staticWeights_.resize(M_);
-        staticWeightsB_.resize(basePickupWeightsB_.size());
+        staticWeights_.edit().resize(M_);
+        staticWeightsB_.edit().resize(basePickupWeightsB_.size());
     }
     setPickupWeights();
 }
@@ -91,18 +93,22 @@ double ModalSolver::movingShare(int p) const
 
 void ModalSolver::setPickupWeights()
 {
+    auto& weights = pickupWeights_.edit();
+    auto& weightsB = pickupWeightsB_.edit();
+    auto& staticWeights = staticWeights_.edit();
+    auto& staticWeightsB = staticWeightsB_.edit();
     for (int p = 0; p < M_; ++p)
     {
         const double moving = movingShare(p);
         const double kept = pickupScale_ * moving;
-        pickupWeights_[p] = kept * basePickupWeights_[p];
-        if (!pickupWeightsB_.empty())
-            pickupWeightsB_[p] = kept * basePickupWeightsB_[p];
-        if (!staticWeights_.empty())
+        weights[p] = kept * basePickupWeights_[p];
+        if (!weightsB.empty())
+            weightsB[p] = kept * basePickupWeightsB_[p];
+        if (!staticWeights.empty())
         {
-            staticWeights_[p] = (1.0 - moving) * pickupScale_ * basePickupWeights_[p];
-            if (!staticWeightsB_.empty())
-                staticWeightsB_[p] = (1.0 - moving) * pickupScale_ * basePickupWeightsB_[p];
+            staticWeights[p] = (1.0 - moving) * pickupScale_ * basePickupWeights_[p];
+            if (!staticWeightsB.empty())
+                staticWeightsB[p] = (1.0 - moving) * pickupScale_ * basePickupWeightsB_[p];
         }
     }
 }
@@ -138,10 +144,11 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
     }
     else
     {
-        shapes_.resize(static_cast<size_t>(P_) * M_);
+        auto& shapes = shapes_.edit();
+        shapes.resize(static_cast<size_t>(P_) * M_);
         for (int j = 0; j < P_; ++j)
             for (int p = 0; p < M_; ++p)
-                shapes_[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
+                shapes[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
     }
     for (int j = 0; j < P_; ++j)
     {
@@ -163,23 +170,25 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
 void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
 {
     const double L = config.lengthMetres;
-    coupled_.assign(M_, transform_ || config.keepEveryMode ? 1 : 0);
+    auto& coupled = coupled_.edit();
+    coupled.assign(M_, transform_ || config.keepEveryMode ? 1 : 0);
     const double couplingFloor = 1e-13 * std::sqrt(2.0 / L);
     for (int j = 0; j < P_; ++j)
         for (int p = 0; p < M_; ++p)
             if (std::abs(shapes_[size_t(j) * M_ + p]) > couplingFloor)
-                coupled_[p] = 1;
+                coupled[p] = 1;
     if (config.excitationPosition)
     {
         if (!config.excitationShape.empty() && static_cast<int>(config.excitationShape.size()) != M_)
             throw std::invalid_argument("the excitation shape must have one value per mode");
-        excitationShape_.resize(M_);
+        auto& excitationShape = excitationShape_.edit();
+        excitationShape.resize(M_);
         for (int p = 0; p < M_; ++p)
         {
-            excitationShape_[p] = config.excitationShape.empty() ? modeShape(L, p + 1, *config.excitationPosition)
-                                                                 : config.excitationShape[size_t(p)];
-            if (std::abs(excitationShape_[p]) > couplingFloor)
-                coupled_[p] = 1;
+            excitationShape[p] = config.excitationShape.empty() ? modeShape(L, p + 1, *config.excitationPosition)
+                                                                : config.excitationShape[size_t(p)];
+            if (std::abs(excitationShape[p]) > couplingFloor)
+                coupled[p] = 1;
         }
         pickupPhiE_ = forceScale_ * (kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_)
                                      + staticPickup(false, excitationShape_.data()));
@@ -379,12 +388,16 @@ double ModalSolver::pickupCompliance(bool second) const
 void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
 {
     state_.toSingle();  // the paired layout's corrections were made with the old coefficients
+    auto& omegas = omega_.edit();
+    auto& sigmas = sigma_.edit();
+    auto& coeffs = coeffs_.edit();
+    auto& coeffsReleased = coeffsReleased_.edit();
     for (int p = 0; p < M_; ++p)
     {
-        omega_[p] = omega[p];
-        sigma_[p] = sigma[p];
-        coeffs_[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
-        coeffsReleased_[p] = exactCoefficients(omega_[p], sigma_[p] + releaseSigma_, dt_);
+        omegas[p] = omega[p];
+        sigmas[p] = sigma[p];
+        coeffs[p] = exactCoefficients(omegas[p], sigmas[p], dt_);
+        coeffsReleased[p] = exactCoefficients(omegas[p], sigmas[p] + releaseSigma_, dt_);
     }
     pickupScale_ = pickupScale;
     setPickupWeights();
@@ -624,8 +637,9 @@ void ModalSolver::computeReach()
     };
     // Once per mode (two square roots and two divisions each), not once per point and mode: a note's
     // start retunes its string, and this loop was most of what that cost.
+    auto& kappas = kappa_.edit();
     for (int p = 0; p < M_; ++p)
-        kappa_[size_t(p)] = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
+        kappas[size_t(p)] = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
     for (int j = 0; j < P_; ++j)
     {
         double sum = 0.0;

@@ -17,6 +17,7 @@
 
 #include "physics/ContactMethod.h"
 #include "physics/ContactSpline.h"
+#include "physics/StampedVector.h"
 #include "physics/ContactSystem.h"
 #include "physics/ExactOscillator.h"
 #include "physics/GridTransform.h"
@@ -235,19 +236,19 @@ private:
     double mu_ = 0.0;
     double lengthMetres_ = 0.0;
     double forceScale_ = 0.0;                            // dt^2 / mu
-    std::vector<ExactModeCoefficients> coeffs_;          // all M modes
-    std::vector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
+    StampedVector<ExactModeCoefficients> coeffs_;          // all M modes
+    StampedVector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
     double releaseSigma_ = 0.0;
-    std::vector<double> basePickupWeights_, basePickupWeightsB_;
+    StampedVector<double> basePickupWeights_, basePickupWeightsB_;
     double pickupScale_ = 1.0;
     double pickupBandOmega_ = 0.0;  // rad/s; 0: every mode
     // The part of each pickup weight read statically, (1 - moving share) pickupScale_ h_p; empty
     // without a pickup band (staticWeightsB_ also without a second pickup).
-    std::vector<double> staticWeights_, staticWeightsB_;
-    std::vector<double> omega_, sigma_, pickupWeights_, pickupWeightsB_;  // B: the second pickup's
-    std::vector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
-    std::vector<char> coupled_;            // mode p touches some contact point
-    std::vector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
+    StampedVector<double> staticWeights_, staticWeightsB_;
+    StampedVector<double> omega_, sigma_, pickupWeights_, pickupWeightsB_;  // B: the second pickup's
+    StampedVector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
+    StampedVector<char> coupled_;            // mode p touches some contact point
+    StampedVector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
 
     ModalState state_;
     double externalForce_ = 0.0;  // N
@@ -286,7 +287,7 @@ private:
     static constexpr int kReachCheckSteps = 512;
     bool leaveOutOfReach_ = false;
     std::vector<double> reach_;   // per point, m per sqrt(J)
-    std::vector<double> kappa_;   // per mode, computeReach's kappa_p
+    StampedVector<double> kappa_;   // per mode, computeReach's kappa_p
     std::vector<char> live_;      // per point
     std::vector<int> liveRows_;   // the live points, ascending (the first liveCount_ entries)
     std::vector<int> pressing_;   // the points with a force this step

@@ -1,6 +1,7 @@
 #include "physics/ModalState.h"
 
 #include "physics/ModalKernels.h"
+#include "physics/StampedVector.h"
 
 #include <algorithm>
 #include <cmath>
@@ -56,6 +57,7 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
     released_ = false;
     a_ = aNormal_;
     e_ = eNormal_;
+    tablesStamp_ = detail::nextTableStamp();
     for (int j = 0; j < contactCount_; ++j)
         for (int i = 0; i < Ma_; ++i)
             phi_[size_t(j) * stride_ + i] = contactShapes[size_t(j) * M_ + active_[i]];
@@ -67,6 +69,8 @@ ModalState& ModalState::operator=(const ModalState& other)
 {
     if (this == &other)
         return *this;
+    const bool sameTables = tablesStamp_ != 0 && tablesStamp_ == other.tablesStamp_
+                            && storage_.size() == other.storage_.size();
     M_ = other.M_;
     Ma_ = other.Ma_;
     Mpad_ = other.Mpad_;
@@ -74,10 +78,14 @@ ModalState& ModalState::operator=(const ModalState& other)
     pickupCount_ = other.pickupCount_;
     contactCount_ = other.contactCount_;
     pairable_ = other.pairable_;
-    active_ = other.active_;
-    indexOfMode_ = other.indexOfMode_;
-    activeNormal_ = other.activeNormal_;
-    activeReleased_ = other.activeReleased_;
+    if (!sameTables)
+    {
+        active_ = other.active_;
+        indexOfMode_ = other.indexOfMode_;
+        activeNormal_ = other.activeNormal_;
+        activeReleased_ = other.activeReleased_;
+    }
+    tablesStamp_ = other.tablesStamp_;
     hasSecondPickup_ = other.hasSecondPickup_;
     layout_ = other.layout_;
     c1_ = other.c1_;
@@ -86,7 +94,7 @@ ModalState& ModalState::operator=(const ModalState& other)
     std::copy(std::begin(other.sumAPhiH_), std::end(other.sumAPhiH_), sumAPhiH_);
     std::copy(std::begin(other.sumAPhiH2_), std::end(other.sumAPhiH2_), sumAPhiH2_);
     released_ = other.released_;
-    copyArraysFrom(other);
+    copyArraysFrom(other, sameTables);
     return *this;
 }
 
@@ -109,8 +117,9 @@ double* ModalState::alignedBase()
 
 // The two states' storage may sit differently against 64 bytes, so the arrays are copied from
 // aligned base to aligned base, and each pointer keeps its offset from the base (q_ and qPrev_
-// trade places as the steps go, a_ and e_ point at either damping set).
-void ModalState::copyArraysFrom(const ModalState& other)
+// trade places as the steps go, a_ and e_ point at either damping set). The state arrays q, qPrev
+// and settled are three consecutive strides (compact()), whichever of them q_ and qPrev_ are.
+void ModalState::copyArraysFrom(const ModalState& other, bool stateOnly)
 {
     if (storage_.size() != other.storage_.size())
         storage_.assign(other.storage_.size(), 0.0);
@@ -118,8 +127,13 @@ void ModalState::copyArraysFrom(const ModalState& other)
         return;
     const double* from = aligned64(other.storage_.data());
     double* to = alignedBase();
-    const size_t used = other.storage_.size() - 8;
-    std::copy(from, from + used, to);
+    if (stateOnly)
+    {
+        const size_t first = size_t(std::min({other.q_, other.qPrev_, other.settled_}) - from);
+        std::copy(from + first, from + first + 3 * size_t(stride_), to + first);
+    }
+    else
+        std::copy(from, from + (other.storage_.size() - 8), to);
     for (double* ModalState::*array : {&ModalState::a_, &ModalState::e_, &ModalState::aNormal_, &ModalState::eNormal_,
                                         &ModalState::aReleased_, &ModalState::eReleased_, &ModalState::h_,
                                         &ModalState::h2_, &ModalState::phiE_, &ModalState::phi_, &ModalState::q_,
@@ -132,6 +146,7 @@ void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
                             const std::vector<double>& pickupWeights,
                             const std::vector<double>& secondPickupWeights)
 {
+    tablesStamp_ = detail::nextTableStamp();
     hasSecondPickup_ = !secondPickupWeights.empty();
     for (int i = 0; i < Ma_; ++i)
     {

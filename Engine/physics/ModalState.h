@@ -19,6 +19,7 @@
 #include "physics/ExactOscillator.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace jawari
@@ -30,7 +31,9 @@ public:
     ModalState() = default;
     ModalState(const ModalState&) = delete;
     // RT: the other's exact copy in arrays of its own (the pointers rebased into them). Into a state
-    // of the same modes and contact rows, nothing is allocated.
+    // of the same modes and contact rows, nothing is allocated. When this already holds the other's
+    // tables (the same tables stamp: copied from it, or from a common copy, with no compact() or
+    // fillTables() since), only the state arrays and the scalars are copied.
     ModalState& operator=(const ModalState& other);
 
     enum class Layout
@@ -126,7 +129,8 @@ public:
 
 private:
     double* alignedBase();  // storage_'s first 64-byte-aligned double: where the arrays start
-    void copyArraysFrom(const ModalState& other);  // the arrays' values, every pointer rebased
+    // The arrays' values (with stateOnly, q, qPrev and settled only), every pointer rebased.
+    void copyArraysFrom(const ModalState& other, bool stateOnly);
 
     int M_ = 0;     // modes of the model
     int Ma_ = 0;    // modes stepped (active)
@@ -156,6 +160,7 @@ private:
     Layout layout_ = Layout::single;
     double c1_ = 0.0, c2_ = 0.0;
     double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0}, sumAPhiH2_[2] = {0.0, 0.0};  // per damping set
+    uint64_t tablesStamp_ = 0;  // new at each compact() and fillTables() (StampedVector.h)
     bool released_ = false;
 };
 

@@ -93,12 +93,12 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
 {
     baseOmega_ = solverConfig.modes.omega;
     baseFrequencyHz_ = solverConfig.modes.frequencyHz;
-    omegaScratch_.assign(baseOmega_.size(), 0.0);
+    omegaScratch_.edit().assign(baseOmega_.size(), 0.0);
     for (int j = 0; j < solver_.contactCount(); ++j)
-        baseHeights_.push_back(solver_.contact(j).height);
+        baseHeights_.edit().push_back(solver_.contact(j).height);
     unitPluck_ = shapeInModes(solverConfig, pluckModalShape(config.string.lengthMetres, shapeModes(solverConfig),
                                                             config.excitationPosition, 1.0));
-    pluckScratch_.assign(unitPluck_.size(), 0.0);
+    pluckScratch_.edit().assign(unitPluck_.size(), 0.0);
     excitationPosition_ = config.excitationPosition;
     shapesMapped_ = !solverConfig.shapeToModes.empty();
     block_.assign(oversampling_, 0.0);
@@ -140,8 +140,9 @@ void Voice::pluckWithPulse(double velocity)
 
 void Voice::pluckFromShape(double amplitudeMetres)
 {
+    auto& pluck = pluckScratch_.edit();
     for (size_t p = 0; p < unitPluck_.size(); ++p)
-        pluckScratch_[p] = amplitudeMetres * unitPluck_[p];
+        pluck[p] = amplitudeMetres * unitPluck_[p];
     solver_.setExternalForce(0.0);
     solver_.startFrom(pluckScratch_.data());
     decimator_.reset();
@@ -294,8 +295,9 @@ void Voice::retune(double ratio, const double* sigma)
 {
     const double previous = ratio_;
     ratio_ = ratio;
+    auto& omega = omegaScratch_.edit();
     for (size_t p = 0; p < baseOmega_.size(); ++p)
-        omegaScratch_[p] = ratio * baseOmega_[p];
+        omega[p] = ratio * baseOmega_[p];
     const double pickupScale = quantity_ == PickupQuantity::force ? ratio * ratio : 1.0;
     solver_.retune(omegaScratch_.data(), sigma, 1.0 / (ratio * ratio), pickupScale);
     pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));

@@ -7,6 +7,7 @@
 // and takeMotionFrom() are RT: no allocation, no locks, no I/O.
 
 #include "physics/ModalSolver.h"
+#include "physics/StampedVector.h"
 #include "physics/Obstacle.h"
 #include "physics/Polarisations.h"
 #include "physics/StringDiscretisation.h"
@@ -182,8 +183,9 @@ private:
     long iterationCount_ = 0;
     double maxPenetration_ = 0.0;
     double ratio_ = 1.0;
-    std::vector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
-    std::vector<double> unitPluck_, pluckScratch_;  // the 1 m triangular pluck's modal shape
+    // Tables, and scratch the RT calls fill before use: skipped by a copy that has them already.
+    StampedVector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
+    StampedVector<double> unitPluck_, pluckScratch_;  // the 1 m triangular pluck's modal shape
     double excitationPosition_ = 0.0;
     bool shapesMapped_ = false;  // the solver's modes are not the sine modes (two polarisations)
 };
