@@ -6,8 +6,7 @@
 // a string's voice and blocks of the worker's own to step it into; just before offering it, the
 // audio thread copies the voice into a BACKUP of its own (its state, and its tables only when they
 // changed). The worker steps the string itself, so a string it keeps from chunk to chunk stays in
-// its cache. Each task then ends
-// one of three ways, decided by one compare-and-swap on its state:
+// its cache. Each task then ends one of three ways, decided by one compare-and-swap on its state:
 //   - the worker finished it: the string is one chunk further on, in the worker's blocks;
 //   - the worker had not started it: the audio thread steps the backup, which becomes the string;
 //   - the worker is still stepping it: the audio thread spins until a deadline it chooses, then
