@@ -44,8 +44,7 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     computeReach();
     if (transform_)
     {
-        shapes_.edit().clear();  // the transform reaches the points
-        shapes_.edit().shrink_to_fit();
+        shapes_.edit() = std::vector<double>();  // the transform reaches the points: no table kept
     }
     setState(std::vector<double>(M_, 0.0), std::vector<double>(M_, 0.0));
 }

@@ -17,7 +17,6 @@
 
 #include "physics/ContactMethod.h"
 #include "physics/ContactSpline.h"
-#include "physics/StampedVector.h"
 #include "physics/ContactSystem.h"
 #include "physics/ExactOscillator.h"
 #include "physics/GridTransform.h"
@@ -27,6 +26,7 @@
 #include "physics/PenaltyContact.h"
 #include "physics/QuadratisedContact.h"
 #include "physics/ResidualCompliance.h"
+#include "physics/StampedVector.h"
 #include "physics/StringModel.h"
 
 #include <memory>

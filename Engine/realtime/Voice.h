@@ -7,9 +7,9 @@
 // and takeMotionFrom() are RT: no allocation, no locks, no I/O.
 
 #include "physics/ModalSolver.h"
-#include "physics/StampedVector.h"
 #include "physics/Obstacle.h"
 #include "physics/Polarisations.h"
+#include "physics/StampedVector.h"
 #include "physics/StringDiscretisation.h"
 #include "physics/StringModel.h"
 #include "realtime/Decimator.h"
