@@ -455,6 +455,11 @@ JawariEditor::JawariEditor(JawariAudioProcessor& p)
     addAndMakeVisible(meter_);
     meter_.setFont(juce::Font(13.0f));
     meter_.setJustificationType(juce::Justification::topLeft);
+    addAndMakeVisible(status_);
+    status_.setFont(juce::Font(13.0f));
+    status_.setColour(juce::Label::textColourId, juce::Colour(0xffffb040));
+    status_.setJustificationType(juce::Justification::topLeft);
+    status_.setTooltip("What Jawari refused or had to correct, and why; empty while all is well.");
     setUpPresets();
     setUpScale();
     for (const auto& row : kPanelRows)
@@ -495,8 +500,7 @@ void JawariEditor::setUpPresets()
         else if (id > factory && id - factory - 1 < userPresets_.size())
         {
             const auto result = processor_.loadUserPreset(userPresets_[id - factory - 1]);
-            if (result.failed())
-                meter_.setText(result.getErrorMessage(), juce::dontSendNotification);
+            editorNote_ = result.failed() ? result.getErrorMessage() : juce::String();
         }
         curve_.repaint();
     };
@@ -506,8 +510,7 @@ void JawariEditor::setUpPresets()
     savePreset_.setTooltip("Saves every parameter and the damping curve as a user preset.");
     savePreset_.onClick = [this] {
         const auto result = processor_.saveUserPreset(presetName_.getText());
-        meter_.setText(result.wasOk() ? "saved " + presetName_.getText() : result.getErrorMessage(),
-                       juce::dontSendNotification);
+        editorNote_ = result.wasOk() ? juce::String() : result.getErrorMessage();
         refreshPresetList();
     };
     refreshPresetList();
@@ -549,8 +552,7 @@ void JawariEditor::chooseScale()
                               const auto error = processor_.setKeyboardTuning(
                                   file.loadFileAsString(),
                                   map.existsAsFile() ? map.loadFileAsString() : juce::String());
-                              if (error.isNotEmpty())
-                                  meter_.setText(file.getFileName() + ": " + error, juce::dontSendNotification);
+                              editorNote_ = error.isNotEmpty() ? file.getFileName() + ": " + error : juce::String();
                               scale_.setButtonText("Scale: " + processor_.keyboardTuningName());
                           });
 }
@@ -628,6 +630,7 @@ void JawariEditor::resized()
     auto left = area.removeFromLeft(area.getWidth() * 2 / 5);
     stringView_.setBounds(left.removeFromTop(left.getHeight() * 36 / 100).reduced(3));
     meter_.setBounds(left.removeFromTop(40).reduced(3));
+    status_.setBounds(left.removeFromTop(36).reduced(3));
     spectrum_.setBounds(left.removeFromTop(left.getHeight() / 2).reduced(3));
     curve_.setBounds(left.reduced(3));
     layOutPanels(area.withTrimmedLeft(4));
@@ -701,6 +704,23 @@ void JawariEditor::refreshFromProcessor()
                                            double(processor_.cpuLoad()) * 100.0, processor_.getLatencySamples(),
                                            snapshot_.blowUps),
                    juce::dontSendNotification);
+    status_.setText(statusText(), juce::dontSendNotification);
+}
+
+// What the player should know went wrong: a refused build or state, the editor's last failed
+// action, the output guard or the blow-up guard having acted, a block that threw.
+juce::String JawariEditor::statusText() const
+{
+    juce::StringArray notes;
+    if (const auto problem = processor_.problem(); problem.isNotEmpty())
+        notes.add(problem);
+    if (editorNote_.isNotEmpty())
+        notes.add(editorNote_);
+    if (snapshot_.blowUps > 0)
+        notes.add(juce::String(snapshot_.blowUps) + " string blow-ups stopped and restarted by the runaway guard");
+    if (const long faults = processor_.renderFaults(); faults > 0)
+        notes.add(juce::String(faults) + " blocks silenced after an error on the audio thread");
+    return notes.joinIntoString("  |  ");
 }
 
 }  // namespace jawari::plugin

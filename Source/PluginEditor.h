@@ -136,6 +136,7 @@ public:
 private:
     void timerCallback() override;
     void refreshTexts();
+    juce::String statusText() const;
     void setUpPresets();
     void setUpScale();
     void chooseScale();
@@ -152,6 +153,8 @@ private:
     SpectrumView spectrum_;
     DampingCurveEditor curve_;
     juce::Label meter_;
+    juce::Label status_;      // what was refused or corrected (statusText)
+    juce::String editorNote_;  // the editor's own last failed action (a preset, a scale), until the next
     juce::ComboBox presets_;
     juce::TextEditor presetName_;
     juce::TextButton savePreset_{"Save preset"};

@@ -36,34 +36,82 @@ public:
         return built_ == s;
     }
 
+    // Each pass: the worker and the retired packs looked after, then a pack for the wanted
+    // structure if it changed. When the host rate has no pack yet, a cheap one (draft, one
+    // polarisation) goes first, so that the instrument plays within milliseconds of prepareToPlay.
+    // Nothing thrown here leaves the thread: it is reported and the last good pack plays on.
     void run() override
     {
         while (!threadShouldExit())
         {
-            owner_.syncWorker();
-            owner_.collectRetired();
-            const double rate = owner_.hostRate_.load();
-            if (rate > 0.0)
+            try
             {
-                const auto wanted = owner_.reader_.structure(rate);
-                if (!hasBuilt(wanted))
-                {
-                    auto pack = buildVoicePack(wanted);
-                    owner_.latency_.store(pack->latencySamples);
-                    owner_.exchange_.offer(std::move(pack));
-                    setBuilt(wanted);
-                    owner_.triggerAsyncUpdate();
+                if (buildIfWanted())
                     continue;
-                }
+            }
+            catch (const std::exception& e)
+            {
+                owner_.reportProblem(juce::String("the builder stopped on an error: ") + e.what());
+            }
+            catch (...)
+            {
+                owner_.reportProblem("the builder stopped on an unknown error");
             }
             wait(10);
         }
     }
 
 private:
+    // Returns whether it built (then it looks again at once).
+    bool buildIfWanted()
+    {
+        owner_.syncWorker();
+        owner_.collectRetired();
+        const double rate = owner_.hostRate_.load();
+        if (!playableHostRate(rate))
+            return false;
+        const auto wanted = owner_.wantedStructure(rate);
+        if (hasBuilt(wanted))
+            return false;
+        if (offeredRate_ != rate && (wanted.quality != 0 || wanted.polarisations != 1))
+        {
+            auto cheap = wanted;
+            cheap.quality = 0;
+            cheap.polarisations = 1;
+            offer(cheap);
+        }
+        if (offer(wanted))
+        {
+            owner_.clearProblem();
+            owner_.triggerAsyncUpdate();  // the latency reported to the host
+        }
+        setBuilt(wanted);  // built or refused: either way not tried again until it changes
+        return true;
+    }
+
+    // Builds a pack and offers it to the audio thread; a structure the engine refuses is reported
+    // and the instrument keeps the pack it has. Returns whether it offered one.
+    bool offer(const InstrumentStructure& s)
+    {
+        try
+        {
+            auto pack = buildVoicePack(s);
+            owner_.exchange_.offer(std::move(pack));
+            offeredRate_ = s.hostRateHz;
+            return true;
+        }
+        catch (const std::exception& e)
+        {
+            owner_.reportProblem(juce::String("these settings could not be built (") + e.what()
+                                 + "); the instrument plays the last ones it could");
+        }
+        return false;
+    }
+
     JawariAudioProcessor& owner_;
     juce::SpinLock guard_;
     InstrumentStructure built_{};
+    double offeredRate_ = 0.0;  // the host rate of the last pack offered (builder thread only)
 };
 
 JawariAudioProcessor::JawariAudioProcessor()
@@ -78,12 +126,38 @@ JawariAudioProcessor::JawariAudioProcessor()
         keyPitches_[n].store(equal[n]);
     scaleName_ = "equal temperament";
     builder_ = std::make_unique<Builder>(*this);
+    builder_->startThread();
 }
 
 JawariAudioProcessor::~JawariAudioProcessor()
 {
     cancelPendingUpdate();
-    builder_->stopThread(5000);
+    // A build under way is let finish (a thread killed mid-build would leave its locks and memory).
+    builder_->stopThread(-1);
+}
+
+InstrumentStructure JawariAudioProcessor::wantedStructure(double hostRateHz) const
+{
+    return playableStructure(reader_.structure(hostRateHz));
+}
+
+void JawariAudioProcessor::reportProblem(const juce::String& what)
+{
+    juce::Logger::writeToLog("Jawari: " + what);
+    const std::lock_guard<std::mutex> lock(problemLock_);
+    problem_ = what;
+}
+
+void JawariAudioProcessor::clearProblem()
+{
+    const std::lock_guard<std::mutex> lock(problemLock_);
+    problem_.clear();
+}
+
+juce::String JawariAudioProcessor::problem() const
+{
+    const std::lock_guard<std::mutex> lock(problemLock_);
+    return problem_;
 }
 
 void JawariAudioProcessor::collectRetired()
@@ -103,38 +177,34 @@ void JawariAudioProcessor::syncWorker()
         worker_.stop();
 }
 
-void JawariAudioProcessor::installNow(std::unique_ptr<VoicePack> pack)
-{
-    // Only while audio is stopped (prepareToPlay): this thread stands in for the audio thread.
-    collectRetired();
-    latency_.store(pack->latencySamples);
-    exchange_.offer(std::move(pack));
-    VoicePack* previous = nullptr;
-    if (VoicePack* fresh = exchange_.take(&previous))
-    {
-        instrument_.install(fresh, previous);
-        exchange_.retire();
-        ++packsInstalled_;
-    }
-    collectRetired();
-}
-
+// Returns at once: the builder thread builds the pack for this rate (a cheap one first when the
+// rate has none), and the instrument plays silence until a pack at this rate arrives. The host
+// hears the latency of the pack to come.
 void JawariAudioProcessor::prepareToPlay(double sampleRate, int)
 {
-    builder_->stopThread(10000);
-    keyboard_.drain([](const KeyboardInput::Event&) {});  // keys pressed while audio was stopped
-    hostRate_.store(sampleRate);
-    syncWorker();
-    const auto s = reader_.structure(sampleRate);
-    installNow(buildVoicePack(s));
-    // Playback starts at the parameters' values: a first note does not hear the gain or the
-    // obstacle gliding from their defaults.
-    instrument_.setControls(controls());
-    instrument_.settleControls();
-    builder_->setBuilt(s);
-    setLatencySamples(latency_.load());
-    load_.reset(sampleRate, 512);
-    builder_->startThread();
+    try
+    {
+        keyboard_.drain([](const KeyboardInput::Event&) {});  // keys pressed while audio was stopped
+        hostRate_.store(sampleRate);
+        if (!playableHostRate(sampleRate))
+        {
+            reportProblem("the host's sample rate, " + juce::String(sampleRate) + " Hz, is outside 8 to 384 kHz: "
+                          + "Jawari stays silent");
+            return;
+        }
+        // Playback starts at the parameters' values: a first note does not hear the gain or the
+        // obstacle gliding from their defaults.
+        instrument_.setControls(controls());
+        instrument_.settleControls();
+        latency_.store(voicePackLatency(wantedStructure(sampleRate)));
+        setLatencySamples(latency_.load());
+        load_.reset(sampleRate, 512);
+        builder_->notify();
+    }
+    catch (const std::exception& e)
+    {
+        reportProblem(juce::String("preparing to play failed: ") + e.what());
+    }
 }
 
 InstrumentControls JawariAudioProcessor::controls() const
@@ -145,10 +215,7 @@ InstrumentControls JawariAudioProcessor::controls() const
     return c;
 }
 
-void JawariAudioProcessor::releaseResources()
-{
-    builder_->stopThread(10000);
-}
+void JawariAudioProcessor::releaseResources() {}
 
 bool JawariAudioProcessor::isBusesLayoutSupported(const BusesLayout& layouts) const
 {
@@ -160,14 +227,37 @@ bool JawariAudioProcessor::isBusesLayoutSupported(const BusesLayout& layouts) co
 void JawariAudioProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
     juce::ScopedNoDenormals noDenormals;
+    juce::AudioProcessLoadMeasurer::ScopedTimer timer(load_, buffer.getNumSamples());
+    // Nothing on the audio thread throws by design; should anything, the block is silent and
+    // counted (renderFaults()), and the host plays on.
+    try
+    {
+        renderBlock(buffer, midi);
+    }
+    catch (...)
+    {
+        buffer.clear();
+        renderFaults_.fetch_add(1, std::memory_order_relaxed);
+    }
+}
+
+void JawariAudioProcessor::renderBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
+{
     const int numSamples = buffer.getNumSamples();
-    juce::AudioProcessLoadMeasurer::ScopedTimer timer(load_, numSamples);
     VoicePack* previous = nullptr;
     if (VoicePack* fresh = exchange_.take(&previous))
     {
         instrument_.install(fresh, previous);
         exchange_.retire();
         packsInstalled_.fetch_add(1, std::memory_order_relaxed);
+    }
+    // Silence until a pack at the host's rate arrives (after prepareToPlay at a new rate).
+    const VoicePack* playing = instrument_.pack();
+    if (playing == nullptr || playing->structure.hostRateHz != hostRate_.load(std::memory_order_relaxed))
+    {
+        buffer.clear();
+        keyboard_.drain([](const KeyboardInput::Event&) {});
+        return;
     }
     instrument_.setControls(controls());
     instrument_.setWorker(reader_.secondCore() && worker_.running() ? &worker_ : nullptr);
@@ -264,7 +354,7 @@ bool JawariAudioProcessor::waitForBuilds(int timeoutMs)
     {
         const double rate = hostRate_.load();
         // Built, and nothing retired in the way: the next processBlock takes the pack.
-        if (rate > 0.0 && builder_->hasBuilt(reader_.structure(rate)) && exchange_.retiredEmpty())
+        if (playableHostRate(rate) && builder_->hasBuilt(wantedStructure(rate)) && exchange_.retiredEmpty())
             return true;
         juce::Thread::sleep(2);
     }
@@ -291,10 +381,17 @@ void JawariAudioProcessor::setCurrentProgram(int index)
     const auto& presets = factoryPresets();
     if (index < 0 || index >= static_cast<int>(presets.size()))
         return;
-    currentProgram_ = index;
-    applyFactoryPreset(parameters_, presets[size_t(index)]);
-    for (int i = 0; i < kDampingCurvePoints; ++i)
-        setDampingCurvePoint(i, 1.0f);
+    try
+    {
+        currentProgram_ = index;
+        applyFactoryPreset(parameters_, presets[size_t(index)]);
+        for (int i = 0; i < kDampingCurvePoints; ++i)
+            setDampingCurvePoint(i, 1.0f);
+    }
+    catch (const std::exception& e)
+    {
+        reportProblem(juce::String("the preset could not be applied: ") + e.what());
+    }
 }
 
 const juce::String JawariAudioProcessor::getProgramName(int index)
@@ -326,7 +423,7 @@ juce::String JawariAudioProcessor::setKeyboardTuning(const juce::String& scale, 
             name = parsed.description.empty() ? juce::String("Scala scale") : juce::String(parsed.description);
         }
     }
-    catch (const TuningError& e)
+    catch (const std::exception& e)  // TuningError, or running out of memory
     {
         return e.what();
     }
@@ -463,8 +560,15 @@ void JawariAudioProcessor::setState(const juce::ValueTree& tree)
 
 void JawariAudioProcessor::getStateInformation(juce::MemoryBlock& destData)
 {
-    if (const auto xml = state().createXml())
-        copyXmlToBinary(*xml, destData);
+    try
+    {
+        if (const auto xml = state().createXml())
+            copyXmlToBinary(*xml, destData);
+    }
+    catch (const std::exception& e)
+    {
+        reportProblem(juce::String("the state could not be saved: ") + e.what());
+    }
 }
 
 void JawariAudioProcessor::setStateInformation(const void* data, int sizeInBytes)
@@ -480,10 +584,24 @@ void JawariAudioProcessor::setStateInformation(const void* data, int sizeInBytes
     const auto length = static_cast<juce::int64>(juce::ByteOrder::littleEndianInt(bytes + 4));
     if (length <= 0 || length > sizeInBytes - 8)
         return;
-    static_cast<void>(setStateFromXml(bytes + 8, static_cast<size_t>(length)));
+    const auto result = setStateFromXml(bytes + 8, static_cast<size_t>(length));
+    if (result.failed())
+        reportProblem("the host's saved state was not loaded: " + result.getErrorMessage());
 }
 
 juce::Result JawariAudioProcessor::setStateFromXml(const char* text, size_t length)
+{
+    try
+    {
+        return readStateXml(text, length);
+    }
+    catch (const std::exception& e)
+    {
+        return juce::Result::fail(juce::String("the state could not be read: ") + e.what());
+    }
+}
+
+juce::Result JawariAudioProcessor::readStateXml(const char* text, size_t length)
 {
     // The UTF-8 is checked before JUCE parses the XML: its UTF-8 iterator trusts lead bytes and
     // reads past the end of a string whose last sequence is cut short (found by tools/fuzz.sh
@@ -512,6 +630,18 @@ juce::Result JawariAudioProcessor::setStateFromXml(const char* text, size_t leng
 }
 
 juce::Result JawariAudioProcessor::saveUserPreset(const juce::String& name)
+{
+    try
+    {
+        return writeUserPreset(name);
+    }
+    catch (const std::exception& e)
+    {
+        return juce::Result::fail(juce::String("the preset could not be saved: ") + e.what());
+    }
+}
+
+juce::Result JawariAudioProcessor::writeUserPreset(const juce::String& name)
 {
     const auto clean = juce::File::createLegalFileName(name.trim());
     if (clean.isEmpty())

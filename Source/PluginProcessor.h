@@ -14,6 +14,7 @@
 #include "Parameters.h"
 #include "realtime/Instrument.h"
 #include "realtime/LockFreeExchange.h"
+#include "realtime/PlayableStructure.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 
@@ -93,13 +94,23 @@ public:
     bool waitForBuilds(int timeoutMs = 20000);
     // The structure the audio thread plays now (CT, approximate).
     long packsInstalled() const { return packsInstalled_.load(); }
+    // What the plugin last refused or could not do, and why (a build, a state, a preset), or empty
+    // once the settings play again. CT, never the audio thread; also written to JUCE's log.
+    juce::String problem() const;
+    // Blocks the audio thread rendered as silence because something threw (none by design). CT.
+    long renderFaults() const { return renderFaults_.load(); }
 
 private:
     class Builder;
     void handleAsyncUpdate() override;
-    void installNow(std::unique_ptr<VoicePack> pack);
+    InstrumentStructure wantedStructure(double hostRateHz) const;  // the parameters' structure, playable
+    void reportProblem(const juce::String& what);
+    juce::Result readStateXml(const char* text, size_t length);  // setStateFromXml's work; may throw
+    juce::Result writeUserPreset(const juce::String& name);      // saveUserPreset's work; may throw
+    void clearProblem();
     void collectRetired();  // CT: frees the pack the audio thread retired, once no worker task can use it
     void syncWorker();      // CT: the second core's thread running exactly when its parameter is on
+    void renderBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi);  // RT
     void handleMidi(const juce::MidiMessage& m, const MidiSettings& settings);  // RT
     InstrumentControls controls() const;  // the parameters and the keyboard's pitches, as the engine takes them. RT
 
@@ -119,6 +130,9 @@ private:
     std::atomic<double> hostRate_{0.0};
     std::atomic<int> latency_{0};
     std::atomic<long> packsInstalled_{0};
+    std::atomic<long> renderFaults_{0};
+    mutable std::mutex problemLock_;  // builder and message threads only
+    juce::String problem_;
     juce::AudioProcessLoadMeasurer load_;
     int currentProgram_ = 0;  // the defaults are factory preset 0
     // Recent output for the spectrum view: a ring written by the audio thread.

@@ -39,6 +39,13 @@ void setParameter(JawariAudioProcessor& p, const char* id, float value)
     param->setValueNotifyingHost(param->convertTo0to1(value));
 }
 
+// prepareToPlay, and the builder thread's pack for the parameters waited for: the next block plays it.
+void prepare(JawariAudioProcessor& p, double rate, int block)
+{
+    p.prepareToPlay(rate, block);
+    REQUIRE(p.waitForBuilds());
+}
+
 float parameterValue(JawariAudioProcessor& p, const char* id)
 {
     return p.parameters().getRawParameterValue(id)->load();
@@ -123,7 +130,7 @@ TEST_CASE("Headless render of the factory presets matches the reference solver",
         setParameter(p, ids::quality, 1.0f);      // standard
         setParameter(p, ids::stereoWidth, 0.0f);  // the string in the centre, as the scale below assumes
         const double rate = 48000.0;
-        p.prepareToPlay(rate, 512);
+        prepare(p, rate, 512);
         const auto y = renderNote(p, rate, 512, 1.2, c.note, 100);
         const int latency = p.getLatencySamples();
 
@@ -461,7 +468,7 @@ TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
 {
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);  // draft keeps the test short
-    p.prepareToPlay(48000.0, 256);
+    prepare(p, 48000.0, 256);
     std::atomic<bool> running{true};
     std::thread fuzzer([&] {
         std::mt19937 rng(11);
@@ -511,7 +518,7 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
             p.setCurrentProgram(factoryPresetIndex("Tanpura drone"));
             setParameter(p, ids::drone, 0.0f);
             setParameter(p, ids::quality, 0.0f);
-            p.prepareToPlay(rate, block);
+            prepare(p, rate, block);
             const auto y = renderNote(p, rate, block, block == 1 ? 0.1 : 0.6, 69);
             INFO("rate " << rate << " block " << block);
             bool finite = true;
@@ -539,7 +546,7 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
         JawariAudioProcessor p;
         setParameter(p, ids::quality, 0.0f);
         setParameter(p, ids::secondCore, secondCore ? 1.0f : 0.0f);
-        p.prepareToPlay(48000.0, 512);
+        prepare(p, 48000.0, 512);
         juce::AudioBuffer<float> buffer(2, 512);
         juce::MidiBuffer midi;
         midi.ensureSize(4096);
@@ -674,7 +681,7 @@ TEST_CASE("setStateInformation survives empty, truncated, random and older-versi
     CHECK(parameterValue(p, ids::obstacleStiffness) == Approx(13.0f));
     CHECK(p.dampingCurvePoint(0) == 1.0f);
     // And it still plays.
-    p.prepareToPlay(48000.0, 256);
+    prepare(p, 48000.0, 256);
     const auto y = renderNote(p, 48000.0, 256, 0.3);
     CHECK(peakOf(y) > 1e-3);
     CHECK(peakOf(y) <= 1.0);
@@ -723,8 +730,8 @@ TEST_CASE("After prepareToPlay a first note plays at the parameters' gain, not g
     // at their values, so a note on the first sample with the gain at -6 dB is 6 dB down throughout.
     JawariAudioProcessor unity, quieter;
     setParameter(quieter, ids::gain, -6.0f);
-    unity.prepareToPlay(48000.0, 512);
-    quieter.prepareToPlay(48000.0, 512);
+    prepare(unity, 48000.0, 512);
+    prepare(quieter, 48000.0, 512);
     const auto a = renderNote(unity, 48000.0, 512, 0.02, 57);
     const auto b = renderNote(quieter, 48000.0, 512, 0.02, 57);
     CHECK(peakOf(b) / peakOf(a) == Approx(std::pow(10.0, -6.0 / 20.0)).epsilon(1e-4));
@@ -736,7 +743,7 @@ TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite a
     setParameter(p, ids::quality, 0.0f);
     setParameter(p, ids::drone, 1.0f);
     setParameter(p, ids::droneTempo, 200.0f);
-    p.prepareToPlay(48000.0, 32);
+    prepare(p, 48000.0, 32);
     // Every continuous parameter jumps between its ends every 32-sample block (1.5 kHz), notes
     // hammer away; the structural ones change too, so the builder keeps swapping packs.
     const char* rt[] = {ids::obstacleHeight, ids::obstacleStiffness, ids::obstacleExponent,  ids::decayScale,
@@ -774,7 +781,7 @@ TEST_CASE("The editor opens without a window and draws the sounding string", "[p
 {
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
-    p.prepareToPlay(48000.0, 512);
+    prepare(p, 48000.0, 512);
     renderNote(p, 48000.0, 512, 0.2);
     std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
     REQUIRE(editor != nullptr);
@@ -848,7 +855,7 @@ TEST_CASE("Every parameter has a control in the editor with a tooltip, and a key
 
     // The Pluck button holds the drone's tonic while it is down.
     const int tonic = 49;
-    p.prepareToPlay(48000.0, 512);
+    prepare(p, 48000.0, 512);
     pluck->setState(juce::Button::buttonDown);
     CHECK(p.keyboardState().isNoteOn(1, tonic));
     const auto y = render(p, 48000.0, 512, 0.5);
@@ -866,7 +873,7 @@ TEST_CASE("A note pressed on the keyboard state sounds in tune and stops on rele
 {
     JawariAudioProcessor p;
     setParameter(p, ids::quality, 0.0f);
-    p.prepareToPlay(48000.0, 256);
+    prepare(p, 48000.0, 256);
     CHECK(peakOf(render(p, 48000.0, 256, 0.1)) == 0.0);
     p.keyboardState().noteOn(1, 69, 100.0f / 127.0f);
     const auto held = render(p, 48000.0, 256, 0.6);
@@ -888,7 +895,7 @@ TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one
         "5-limit just\n12\n16/15\n9/8\n6/5\n5/4\n4/3\n45/32\n3/2\n8/5\n5/3\n9/5\n15/8\n2/1\n";
     const juce::String a440 = "12\n0\n127\n60\n69\n440.0\n12\n0\n1\n2\n3\n4\n5\n6\n7\n8\n9\n10\n11\n";
     JawariAudioProcessor p;
-    p.prepareToPlay(48000.0, 512);
+    prepare(p, 48000.0, 512);
     setParameter(p, ids::obstacleHeight, -5.0f);  // the bridge out of reach: a free string, a clean pitch
     REQUIRE(p.waitForBuilds());
     CHECK(p.setKeyboardTuning(justScale, a440).isEmpty());
@@ -930,7 +937,7 @@ TEST_CASE("A Scala scale tunes the keyboard, travels in the state, and a bad one
 TEST_CASE("MPE through processBlock: a note bends on its own channel while another holds its pitch", "[plugin]")
 {
     JawariAudioProcessor p;
-    p.prepareToPlay(48000.0, 256);
+    prepare(p, 48000.0, 256);
     setParameter(p, ids::obstacleHeight, -5.0f);  // free strings: clean pitches
     setParameter(p, ids::mpe, 1.0f);
     REQUIRE(p.waitForBuilds());

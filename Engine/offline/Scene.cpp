@@ -272,7 +272,7 @@ Obstacle readThread(const json& j, const std::string& path, std::vector<Obstacle
     thread.law = readContactLaw(r);
     thread.offset = r.nonNegative("offset", thread.offset);
     thread.diameter = r.positive("diameter", thread.diameter);
-    if (bridge.supportBegin() + thread.offset > bridge.supportEnd())
+    if (!threadFitsBridge(bridge, thread.offset))
         throw SceneError(r.at("offset"), "puts the thread off its bridge, which is "
                                              + show(bridge.supportEnd() - bridge.supportBegin()) + " m long (got "
                                              + show(thread.offset) + " m)");

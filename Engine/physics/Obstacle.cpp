@@ -12,9 +12,9 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
 {
     if (!bridge.isDistributed())
         throw std::invalid_argument("a thread lies across a bridge (a parabola or a profile), not a point");
-    const double x = bridge.supportBegin() + thread.offset;
-    if (!(thread.offset >= 0.0 && x <= bridge.supportEnd()))
+    if (!threadFitsBridge(bridge, thread.offset))
         throw std::invalid_argument("the thread lies off its bridge");
+    const double x = std::min(bridge.supportBegin() + thread.offset, bridge.supportEnd());
     if (!(thread.diameter > 0.0))
         throw std::invalid_argument("the thread's diameter must be > 0");
     // The highest support to the rest line: every height moved by one amount.
@@ -32,6 +32,12 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
     point.width = thread.diameter;
     point.law = thread.law;
     return point;
+}
+
+bool threadFitsBridge(const Obstacle& bridge, double offset)
+{
+    constexpr double tolerance = 1e-9;  // m
+    return offset >= 0.0 && bridge.supportBegin() + offset <= bridge.supportEnd() + tolerance;
 }
 
 double Obstacle::supportBegin() const

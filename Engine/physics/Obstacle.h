@@ -55,9 +55,14 @@ struct Thread
 // diameter. Where the thread is the higher, as a player sets it, its top is the rest line and the
 // bridge lies `diameter` below the string there; where the crown rises above the thread (a steep
 // bridge, a thread far from its apex), the string rests on the crown and the thread lies under it,
-// clear of it at rest. Throws std::invalid_argument when the bridge is not distributed or the
-// thread lies off it.
+// clear of it at rest. The thread's place is begin + offset, clamped to the bridge's far edge: an
+// offset of the bridge's whole width lies on it whatever the rounding. Throws std::invalid_argument
+// when the bridge is not distributed or the thread lies off it (threadFitsBridge).
 Obstacle layThread(Obstacle& bridge, const Thread& thread);
+
+// Whether a thread `offset` m from the bridge's near edge lies on the bridge: 0 <= offset and
+// begin + offset <= end, up to a nanometre (the rounding of begin + width against end).
+bool threadFitsBridge(const Obstacle& bridge, double offset);
 
 struct ContactPoint
 {

@@ -189,7 +189,10 @@ struct VoicePack
     void takeMotionFrom(VoicePack& other);
 };
 
+// Any structure: it is built as playableStructure(structure) (PlayableStructure.h).
 std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure);
+// The latency (host samples) of the pack buildVoicePack would build, without building it. OFF.
+int voicePackLatency(const InstrumentStructure& structure);
 
 // What the editor draws, published by the audio thread without locks (SnapshotBuffer).
 struct InstrumentSnapshot

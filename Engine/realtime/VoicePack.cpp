@@ -2,6 +2,7 @@
 // obstacles on their contact points, the quality, twelve voices, the drawing tables, the decimators).
 
 #include "realtime/Instrument.h"
+#include "realtime/PlayableStructure.h"
 
 #include <algorithm>
 #include <cmath>
@@ -142,8 +143,9 @@ VoiceQuality instrumentQuality(const InstrumentStructure& s)
     return resolveQuality(settings[size_t(q)], instrumentString(s), s.hostRateHz);
 }
 
-std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
+std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
 {
+    const InstrumentStructure structure = playableStructure(requested);
     auto pack = std::make_unique<VoicePack>();
     pack->structure = structure;
     pack->string = instrumentString(structure);
@@ -224,6 +226,12 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure)
     // the string moves more).
     pack->secondPickupGain = sine / pickupSine(secondPickupFraction(structure.pickupPosition));
     return pack;
+}
+
+int voicePackLatency(const InstrumentStructure& structure)
+{
+    const InstrumentStructure s = playableStructure(structure);
+    return Decimator(instrumentQuality(s).oversampling, s.hostRateHz).latencyHostSamples();
 }
 
 void VoicePack::takeMotionFrom(VoicePack& other)

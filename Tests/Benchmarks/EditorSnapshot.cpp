@@ -26,6 +26,7 @@ int main(int argc, char* argv[])
     if (argc > 3 && std::string(argv[3]) == "2")
         p.parameters().getParameter(jawari::plugin::ids::polarisations)->setValueNotifyingHost(1.0f);
     p.prepareToPlay(48000.0, 512);
+    p.waitForBuilds();
     std::unique_ptr<juce::AudioProcessorEditor> editor(p.createEditorIfNeeded());
     auto* jawariEditor = dynamic_cast<jawari::plugin::JawariEditor*>(editor.get());
     juce::AudioBuffer<float> buffer(2, 512);
