@@ -1,9 +1,9 @@
 #pragma once
-// Counts what a real-time thread never does, allocate, on the threads a test marks real-time: the
-// global operator new and glibc's allocator are replaced in AllocationCounter.cpp, linked only into
-// the binaries that check real-time threads (jawari-realtime-tests, jawari-plugin-tests). A mark is
-// per thread: the test's audio thread marks itself, and the second core's worker is marked from its
-// task hook (StringWorker::setTaskHookForTesting).
+// Counts what a real-time thread never does, on the threads a test marks real-time: allocations (the
+// global operator new and glibc's allocator replaced in AllocationCounter.cpp, linked only into the
+// binaries that check real-time threads: jawari-realtime-tests, jawari-plugin-tests) and locks
+// (LockCounter.h, jawari-realtime-tests only). A mark is per thread: the test's audio thread marks
+// itself, and the second core's worker is marked from its task hook (StringWorker::setTaskHookForTesting).
 
 #include <atomic>
 
@@ -13,6 +13,7 @@ namespace jawari::test
 struct RealtimeCounts
 {
     std::atomic<long> allocations{0};
+    std::atomic<long> locks{0};
 };
 
 // Marks this thread real-time, counting into `counts`, or unmarks it (null). The thread_local mark
@@ -21,7 +22,7 @@ struct RealtimeCounts
 void countOnThisThread(RealtimeCounts* counts);
 RealtimeCounts* countsOfThisThread();
 
-// The test's audio thread: its counts, and its allocations under the name the tests read.
+// The test's audio thread: its counts, and its allocations alone under the name the tests read.
 extern RealtimeCounts audioThreadCounts;
 extern std::atomic<long>& allocations;
 // Marks this thread (counting into audioThreadCounts) or unmarks it.
@@ -33,6 +34,7 @@ struct CountAllocations
     CountAllocations()
     {
         audioThreadCounts.allocations = 0;
+        audioThreadCounts.locks = 0;
         countAllocationsOnThisThread(true);
     }
     ~CountAllocations() { countAllocationsOnThisThread(false); }

@@ -1,6 +1,7 @@
-// The real-time threads, the audio thread and the second core's worker, never allocate: every
-// allocation made on a thread a test marks real-time is counted (the global operator new and glibc's
-// allocator replaced in this test binary only: AllocationCounter.h).
+// The real-time threads, the audio thread and the second core's worker, never allocate and never
+// lock: every allocation and every lock taken on a thread a test marks real-time is counted (the
+// global operator new, glibc's allocator and pthread's lock functions replaced in this test binary
+// only: AllocationCounter.h, LockCounter.h).
 
 #include "TestSupport.h"
 #include "offline/Scene.h"
@@ -236,7 +237,10 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
         }
 }
 
+#include "LockCounter.h"
 #include "realtime/StringWorker.h"
+
+#include <mutex>
 
 namespace
 {
@@ -248,12 +252,13 @@ void allocateOnce()
 }
 
 // The second core's worker marked real-time by its task hook, in each task it claims; on request it
-// also allocates there once, a fault the counter must see.
+// also allocates and locks there once, a fault the counters must see.
 struct WorkerMark
 {
     test::RealtimeCounts counts;  // declared before the worker it marks: it outlives its thread
     std::atomic<long> tasks{0};
     bool misbehave = false;
+    std::mutex mutex;
 
     static void inTask(void* self)
     {
@@ -261,7 +266,10 @@ struct WorkerMark
         test::countOnThisThread(&mark.counts);
         ++mark.tasks;
         if (mark.misbehave)
+        {
             allocateOnce();
+            const std::lock_guard<std::mutex> lock(mark.mutex);
+        }
     }
 };
 
@@ -287,13 +295,19 @@ InstrumentStructure draftPoint()
 }
 }  // namespace
 
-TEST_CASE("The counter sees an allocation on a thread marked real-time, the worker's too")
+TEST_CASE("The counters see an allocation and a lock on a thread marked real-time, the worker's too")
 {
     test::RealtimeCounts here;
+    std::mutex mutex;
     test::countOnThisThread(&here);
     allocateOnce();
+    {
+        const std::lock_guard<std::mutex> lock(mutex);
+    }
     test::countOnThisThread(nullptr);
     CHECK(here.allocations == 1);
+    if (test::kCountsLocks)
+        CHECK(here.locks == 1);  // std::mutex reaches pthread_mutex_lock, counted
 
     auto pack = buildVoicePack(draftPoint());
     WorkerMark mark;
@@ -301,17 +315,22 @@ TEST_CASE("The counter sees an allocation on a thread marked real-time, the work
     worker.setTaskHookForTesting(&WorkerMark::inTask, &mark);
     worker.start();
     stepOnWorker(worker, *pack);  // marks the worker
-    const long allocationsMarked = mark.counts.allocations;
+    const long allocationsMarked = mark.counts.allocations, locksMarked = mark.counts.locks;
     mark.misbehave = true;
     stepOnWorker(worker, *pack);
-    INFO("the worker's allocations " << mark.counts.allocations);
+    INFO("the worker's allocations " << mark.counts.allocations << ", locks " << mark.counts.locks);
     CHECK(mark.tasks == 2);
     CHECK(allocationsMarked == 0);
+    CHECK(locksMarked == 0);
     CHECK(mark.counts.allocations == 1);
+    if (test::kCountsLocks)
+        CHECK(mark.counts.locks == 1);
+    else
+        WARN("locks are not counted in this build (LockCounter.h)");
 }
 
-TEST_CASE("Neither the audio thread nor the worker allocates, twelve strings on two cores through notes, retunes, "
-          "releases and a new pack")
+TEST_CASE("Neither the audio thread nor the worker allocates or locks, twelve strings on two cores through notes, "
+          "retunes, releases and a new pack")
 {
     auto structure = draftPoint();
     auto first = buildVoicePack(structure);
@@ -374,7 +393,9 @@ TEST_CASE("Neither the audio thread nor the worker allocates, twelve strings on 
                  << ", revoked " << activity.workerRevoked << "; retunes " << activity.retunes << ", packs "
                  << activity.packsInstalled << ", most strings " << mostStrings);
     CHECK(audio.allocations == 0);
+    CHECK(audio.locks == 0);
     CHECK(mark.counts.allocations == 0);
+    CHECK(mark.counts.locks == 0);
     // The worker stepped strings all along: a string of each job (at least), each either finished
     // or revoked while it stepped it.
     CHECK(jobs >= 399);  // every block but the first, which sounds one string
