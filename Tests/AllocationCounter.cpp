@@ -5,19 +5,33 @@
 
 namespace
 {
-thread_local bool countingAllocations = false;
+thread_local jawari::test::RealtimeCounts* marked = nullptr;
+
+void countAllocation()
+{
+    if (marked != nullptr)
+        ++marked->allocations;
 }
+}  // namespace
 
 namespace jawari::test
 {
-std::atomic<long> allocations{0};
+RealtimeCounts audioThreadCounts;
+std::atomic<long>& allocations = audioThreadCounts.allocations;
+
+void countOnThisThread(RealtimeCounts* counts)
+{
+    marked = counts;
+}
+RealtimeCounts* countsOfThisThread()
+{
+    return marked;
+}
 void countAllocationsOnThisThread(bool on)
 {
-    countingAllocations = on;
+    marked = on ? &audioThreadCounts : nullptr;
 }
 }  // namespace jawari::test
-
-using jawari::test::allocations;
 
 // The C allocator too (Eigen's temporaries come from std::malloc, not operator new): glibc's
 // functions replaced by counting ones that call its own (__libc_*). Not under ASan or TSan, which
@@ -33,32 +47,27 @@ extern "C"
 
     void* malloc(std::size_t size)
     {
-        if (countingAllocations)
-            ++allocations;
+        countAllocation();
         return __libc_malloc(size);
     }
     void* calloc(std::size_t count, std::size_t size)
     {
-        if (countingAllocations)
-            ++allocations;
+        countAllocation();
         return __libc_calloc(count, size);
     }
     void* realloc(void* p, std::size_t size)
     {
-        if (countingAllocations)
-            ++allocations;
+        countAllocation();
         return __libc_realloc(p, size);
     }
     void* aligned_alloc(std::size_t alignment, std::size_t size)
     {
-        if (countingAllocations)
-            ++allocations;
+        countAllocation();
         return __libc_memalign(alignment, size);
     }
     int posix_memalign(void** out, std::size_t alignment, std::size_t size)
     {
-        if (countingAllocations)
-            ++allocations;
+        countAllocation();
         *out = __libc_memalign(alignment, size);
         return *out != nullptr ? 0 : 12;  // ENOMEM
     }
@@ -68,8 +77,7 @@ extern "C"
 void* operator new(std::size_t size)
 {
 #ifndef JAWARI_COUNTS_MALLOC
-    if (countingAllocations)
-        ++allocations;
+    countAllocation();
 #endif
     if (void* p = std::malloc(size == 0 ? 1 : size))
         return p;
@@ -82,8 +90,7 @@ void* operator new[](std::size_t size)
 void* operator new(std::size_t size, std::align_val_t alignment)
 {
 #ifndef JAWARI_COUNTS_MALLOC
-    if (countingAllocations)
-        ++allocations;
+    countAllocation();
 #endif
     if (void* p = std::aligned_alloc(static_cast<std::size_t>(alignment),
                                      (size + static_cast<std::size_t>(alignment) - 1)

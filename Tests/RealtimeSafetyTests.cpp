@@ -1,5 +1,7 @@
-// The audio thread never allocates: every allocation made while a test holds the guard is counted
-// (global operator new replaced in this test binary only).
+// The real-time threads, the audio thread and the second core's worker, never allocate and never
+// lock: every allocation and every lock taken on a thread a test marks real-time is counted (the
+// global operator new, glibc's allocator and pthread's lock functions replaced in this test binary
+// only: AllocationCounter.h, LockCounter.h).
 
 #include "TestSupport.h"
 #include "offline/Scene.h"
@@ -233,4 +235,173 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
             for (float v : left)
                 REQUIRE(std::isfinite(v));
         }
+}
+
+#include "LockCounter.h"
+#include "realtime/StringWorker.h"
+
+#include <mutex>
+
+namespace
+{
+// One allocation, kept until the next, so that it cannot be optimised away.
+std::atomic<int*> kept{nullptr};
+void allocateOnce()
+{
+    delete kept.exchange(new int(1));
+}
+
+// The second core's worker marked real-time by its task hook, in each task it claims; on request it
+// also allocates and locks there once, a fault the counters must see.
+struct WorkerMark
+{
+    test::RealtimeCounts counts;  // declared before the worker it marks: it outlives its thread
+    std::atomic<long> tasks{0};
+    bool misbehave = false;
+    std::mutex mutex;
+
+    static void inTask(void* self)
+    {
+        auto& mark = *static_cast<WorkerMark*>(self);
+        test::countOnThisThread(&mark.counts);
+        ++mark.tasks;
+        if (mark.misbehave)
+        {
+            allocateOnce();
+            const std::lock_guard<std::mutex> lock(mark.mutex);
+        }
+    }
+};
+
+// A job of one string posted straight to the worker, collected once the worker has finished it.
+void stepOnWorker(StringWorker& worker, const VoicePack& pack)
+{
+    Voice& voice = *pack.voices[0];
+    std::vector<double> block(32 * size_t(pack.oversampling)), second(block.size());
+    worker.post(1, 32);
+    worker.offer(0, {&voice, block.data(), second.data()});
+    worker.waitForJobs(worker.postedJobs());
+    worker.collect(0, std::chrono::steady_clock::now());
+}
+
+InstrumentStructure draftPoint()
+{
+    InstrumentStructure s;
+    s.quality = 0;
+    s.shape = ObstacleShape::point;
+    s.obstaclePosition = 0.3;
+    s.obstacleWidth = 1e-3;
+    return s;
+}
+}  // namespace
+
+TEST_CASE("The counters see an allocation and a lock on a thread marked real-time, the worker's too")
+{
+    test::RealtimeCounts here;
+    std::mutex mutex;
+    test::countOnThisThread(&here);
+    allocateOnce();
+    {
+        const std::lock_guard<std::mutex> lock(mutex);
+    }
+    test::countOnThisThread(nullptr);
+    CHECK(here.allocations == 1);
+    if (test::kCountsLocks)
+        CHECK(here.locks == 1);  // std::mutex reaches pthread_mutex_lock, counted
+
+    auto pack = buildVoicePack(draftPoint());
+    WorkerMark mark;
+    StringWorker worker;
+    worker.setTaskHookForTesting(&WorkerMark::inTask, &mark);
+    worker.start();
+    stepOnWorker(worker, *pack);  // marks the worker
+    const long allocationsMarked = mark.counts.allocations, locksMarked = mark.counts.locks;
+    mark.misbehave = true;
+    stepOnWorker(worker, *pack);
+    INFO("the worker's allocations " << mark.counts.allocations << ", locks " << mark.counts.locks);
+    CHECK(mark.tasks == 2);
+    CHECK(allocationsMarked == 0);
+    CHECK(locksMarked == 0);
+    CHECK(mark.counts.allocations == 1);
+    if (test::kCountsLocks)
+        CHECK(mark.counts.locks == 1);
+    else
+        WARN("locks are not counted in this build (LockCounter.h)");
+}
+
+TEST_CASE("Neither the audio thread nor the worker allocates or locks, twelve strings on two cores through notes, "
+          "retunes, releases and a new pack")
+{
+    auto structure = draftPoint();
+    auto first = buildVoicePack(structure);
+    structure.pluckPosition = 0.3;
+    auto second = buildVoicePack(structure);
+    WorkerMark mark;
+    StringWorker worker;
+    // The hook marks the worker; while it is set, the worker claims a string of every job.
+    worker.setTaskHookForTesting(&WorkerMark::inTask, &mark);
+    worker.start();
+    Instrument instrument;
+    instrument.setWorker(&worker);
+    InstrumentControls c;
+    instrument.setControls(c);
+    instrument.install(first.get(), nullptr);
+    instrument.clearActivity();
+    std::vector<float> left(128), right(128);
+    test::RealtimeCounts audio;
+    int mostStrings = 0;
+    const uint32_t jobsBefore = worker.postedJobs();
+    test::countOnThisThread(&audio);
+    for (int b = 0; b < 400; ++b)
+    {
+        if (b < 8)
+            instrument.noteOn(45 + 3 * b, 0.6);
+        if (b == 20)
+        {
+            c.drone = true;  // four strings more: twelve
+            c.droneTempo = 240.0;
+            instrument.setControls(c);
+        }
+        if (b == 60 || b == 200)
+            instrument.pitchBend(b == 60 ? 0.5 : -0.3);  // every string retuned
+        if (b == 100)
+        {
+            c.decayScale = 2.0;  // retuned again: new damping
+            c.obstacleHeight = 2e-4;
+            instrument.setControls(c);
+        }
+        if (b == 150)
+            instrument.install(second.get(), first.get());
+        if (b == 250)
+            for (int n = 0; n < 8; ++n)
+                instrument.noteOff(45 + 3 * n);
+        if (b == 320)
+            instrument.noteOn(60, 0.8);  // a string released, plucked again
+        instrument.render(left.data(), right.data(), b % 7 == 3 ? 37 : 128);
+        mostStrings = std::max(mostStrings, instrument.activeStrings());
+        // Between blocks the worker finishes what it was late with: each block posts it a job.
+        test::countOnThisThread(nullptr);
+        worker.waitForJobs(worker.postedJobs());
+        test::countOnThisThread(&audio);
+    }
+    test::countOnThisThread(nullptr);
+    worker.waitForJobs(worker.postedJobs());
+    worker.setTaskHookForTesting(nullptr, nullptr);
+    const auto& activity = instrument.activity();
+    const long jobs = long(worker.postedJobs() - jobsBefore);
+    INFO("jobs " << jobs << ", strings the worker claimed " << mark.tasks << ", finished " << activity.workerStrings
+                 << ", revoked " << activity.workerRevoked << "; retunes " << activity.retunes << ", packs "
+                 << activity.packsInstalled << ", most strings " << mostStrings);
+    CHECK(audio.allocations == 0);
+    CHECK(audio.locks == 0);
+    CHECK(mark.counts.allocations == 0);
+    CHECK(mark.counts.locks == 0);
+    // The worker stepped strings all along: a string of each job (at least), each either finished
+    // or revoked while it stepped it.
+    CHECK(jobs >= 399);  // every block but the first, which sounds one string
+    CHECK(mark.tasks >= jobs);
+    CHECK(mark.tasks == activity.workerStrings + activity.workerRevoked);
+    CHECK(mostStrings == 12);
+    CHECK(activity.retunes > 24);
+    CHECK(activity.packsInstalled == 1);
 }

@@ -9,8 +9,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <thread>
 #include <vector>
 
@@ -43,8 +45,8 @@ struct Performance
 
 // Eight notes, the drone, a bend, the bridge automated, a new pack, the notes released: kBlocks
 // blocks of 128 samples (and of 37 now and then; 2 s in all without a sanitizer), with the second
-// core if one is given.
-Performance perform(ObstacleShape shape, StringWorker* worker)
+// core if one is given, and `afterBlock` called between blocks if given.
+Performance perform(ObstacleShape shape, StringWorker* worker, const std::function<void()>& afterBlock = {})
 {
     auto structure = structureFor(shape);
     auto first = buildVoicePack(structure);
@@ -85,6 +87,8 @@ Performance perform(ObstacleShape shape, StringWorker* worker)
         instrument.render(l.data(), r.data(), count);
         out.left.insert(out.left.end(), l.begin(), l.begin() + count);
         out.right.insert(out.right.end(), r.begin(), r.begin() + count);
+        if (afterBlock)
+            afterBlock();
     }
     out.activity = instrument.activity();
     if (worker != nullptr)
@@ -96,6 +100,28 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b)
 {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
+
+// A worker the system preempts in the middle of a task, every time: the worker's task hook waits in
+// each task it claims until the test lets it go.
+struct Latch
+{
+    std::atomic<bool> held{true};
+    std::atomic<long> tasksHeld{0};
+    static void hold(void* self)
+    {
+        auto& latch = *static_cast<Latch*>(self);
+        ++latch.tasksHeld;
+        while (latch.held.load(std::memory_order_acquire))
+            std::this_thread::yield();
+    }
+    // Lets the worker finish the task it holds, waits until it has, and holds the next.
+    void releaseOnce(StringWorker& worker)
+    {
+        held.store(false, std::memory_order_release);
+        worker.waitForJobs(worker.postedJobs());
+        held.store(true, std::memory_order_release);
+    }
+};
 
 double peak(const std::vector<float>& y)
 {
@@ -196,17 +222,24 @@ TEST_CASE("With a second core the instrument's output is the same bit for bit, o
         CHECK(shared.activity.workerStrings >= 100);
         CHECK(shared.activity.newtonIterations == alone.activity.newtonIterations);
 
-        // A worker the system keeps preempting: each string it starts, it finishes 2 ms later,
-        // after the audio thread has (mostly) taken it back and stepped it itself.
-        worker.delayEachTaskForTesting(std::chrono::microseconds(2000));
-        const Performance late = perform(shape, &worker);
+        // A worker the system keeps preempting: held in the first string of each job (the hook makes
+        // sure it claims it) until the block is over, so the audio thread revokes that string and
+        // steps the rest of the block alone; released between blocks.
+        Latch latch;
+        worker.setTaskHookForTesting(&Latch::hold, &latch);
+        const uint32_t jobsBefore = worker.postedJobs();
+        const Performance late = perform(shape, &worker, [&] { latch.releaseOnce(worker); });
+        worker.setTaskHookForTesting(nullptr, nullptr);
+        const long jobs = long(worker.postedJobs() - jobsBefore);
+        INFO("on time: " << shared.activity.workerStrings << " strings by the worker, " << shared.activity.workerRevoked
+                         << " taken back; late: " << jobs << " jobs, " << late.activity.workerRevoked
+                         << " strings taken back, " << late.activity.workerUnstarted << " unstarted");
         CHECK(sameBits(late.left, alone.left));
         CHECK(sameBits(late.right, alone.right));
-        CHECK(late.activity.workerRevoked > 10);
-        worker.delayEachTaskForTesting(std::chrono::microseconds(0));
-        INFO("on time: " << shared.activity.workerStrings << " strings by the worker, "
-                         << shared.activity.workerRevoked << " taken back; late: " << late.activity.workerStrings
-                         << " by the worker, " << late.activity.workerRevoked << " taken back");
+        CHECK(jobs == kBlocks - 1);  // one a block, but the first (one string sounds)
+        CHECK(latch.tasksHeld == jobs);
+        CHECK(late.activity.workerRevoked == jobs);
+        CHECK(late.activity.workerStrings == 0);
     }
 }
 

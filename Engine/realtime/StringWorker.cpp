@@ -64,6 +64,9 @@ void StringWorker::offer(int i, const Task& task)
 {
     tasks_[size_t(i)] = task;
     state_[size_t(i)].store(posted, std::memory_order_release);
+    if (i == 0 && hook_.load(std::memory_order_relaxed) != nullptr)  // tests only: the worker claims it first
+        while (state_[0].load(std::memory_order_acquire) == posted && running())
+            std::this_thread::yield();
 }
 
 StringWorker::Outcome StringWorker::collect(int i, std::chrono::steady_clock::time_point deadline)
@@ -80,6 +83,12 @@ StringWorker::Outcome StringWorker::collect(int i, std::chrono::steady_clock::ti
     if (seen == stepping && state.compare_exchange_strong(seen, takenBack, std::memory_order_acq_rel))
         return Outcome::revoked;
     return Outcome::worker;  // done: its writes are visible (acquire)
+}
+
+void StringWorker::setTaskHookForTesting(TaskHook hook, void* context)
+{
+    hookContext_.store(context, std::memory_order_relaxed);
+    hook_.store(hook, std::memory_order_release);
 }
 
 void StringWorker::waitForJobs(uint32_t jobs) const
@@ -132,8 +141,8 @@ void StringWorker::runJob()
         int expected = posted;
         if (!state.compare_exchange_strong(expected, stepping, std::memory_order_acq_rel))
             continue;
-        if (const long delay = delay_.load(std::memory_order_relaxed); delay > 0)
-            std::this_thread::sleep_for(std::chrono::microseconds(delay));
+        if (const TaskHook hook = hook_.load(std::memory_order_acquire))
+            hook(hookContext_.load(std::memory_order_relaxed));
         const Task& task = tasks_[size_t(i)];
         task.voice->processInternal(task.block, samples_, task.second);
         expected = stepping;
