@@ -60,8 +60,7 @@ void checkHash(const char* what, uint64_t actual, uint64_t expected)
     INFO(what << ": " << hex(actual) << ", stored " << hex(expected));
     if (!kHashesApply)
     {
-        WARN(what << ": " << hex(actual) << " (not checked: hashes are checked only on the plain Release build, GCC 12, "
-                     "AVX-512)");
+        WARN(what << ": " << hex(actual) << " (not checked: hashes are of the plain Release build, GCC 12, AVX-512)");
         return;
     }
     CHECK(actual == expected);

@@ -495,7 +495,8 @@ TEST_CASE("The guards act and are counted: samples beyond the output's ceiling, 
         const long blowUps = instrument.blowUps();
         InstrumentSnapshot snapshot;
         REQUIRE(instrument.snapshots().read(snapshot));
-        INFO("blow-ups " << blowUps << " (snapshot " << snapshot.blowUps << "), limited " << instrument.limitedSamples());
+        INFO("blow-ups " << blowUps << " (snapshot " << snapshot.blowUps << "), limited "
+                         << instrument.limitedSamples());
         CHECK(blowUps > 0);
         CHECK(snapshot.blowUps > 0);
         CHECK(instrument.limitedSamples() == 0);  // the voice's guard muted it first

@@ -116,9 +116,8 @@ inline void checkBandFalls(const std::vector<double>& y, const std::vector<doubl
     INFO("centroid above the 10th partial: " << early << " Hz (0.1 s), " << middle << " Hz (0.5 s), " << late
                                              << " Hz (0.9 s); without the obstacle " << alone.early << ", "
                                              << alone.middle << ", " << alone.late << " Hz: raised "
-                                             << early / alone.early << "x, " << middle / alone.middle
-                                             << "x, the fall " << (early - late) / (alone.early - alone.late)
-                                             << "x the free string's");
+                                             << early / alone.early << "x, " << middle / alone.middle << "x, the fall "
+                                             << (early - late) / (alone.early - alone.late) << "x the free string's");
     CHECK(middle < early);
     CHECK(late < middle);
     CHECK(early > 1.1 * alone.early);

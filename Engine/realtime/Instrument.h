@@ -369,7 +369,7 @@ private:
     uint64_t chunkClock_ = 0;
     double chunkPenetration_ = 0.0;
     long limitedSamples_ = 0;
-    long blowUpsRetired_ = 0;   // blow-ups in the packs installed before this one, since their install
+    long blowUpsRetired_ = 0;    // blow-ups in the packs installed before this one, since their install
     long blowUpsAtInstall_ = 0;  // the installed pack's count when it was installed
     SnapshotBuffer<InstrumentSnapshot> snapshots_;
     uint64_t snapshotSequence_ = 0;
