@@ -5,8 +5,11 @@
 //
 // Bit identity holds for one compiler and one instruction set, so the hashes are stored for the
 // build they were taken with (the plain Release build, GCC 12, -march=native on an AVX-512 core:
-// this project's CI machine). Another build (a sanitizer's, a portable one) prints its hashes and
-// checks nothing.
+// this project's CI machine). On another build (a sanitizer's, a portable one, another machine's)
+// the tests are hidden ("[.]"): they neither run by default nor are registered with ctest
+// (catch_discover_tests lists the visible tests only), so no summary counts an unchecked hash as a
+// pass. Asked for by tag there (jawari-engine-tests "[checksum]"), they print that build's hashes
+// and check nothing.
 
 #include "TestSupport.h"
 #include "offline/OfflineRender.h"
@@ -27,8 +30,10 @@ namespace
 {
 #if defined(JAWARI_CHECKSUM_BUILD) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ == 12 && defined(__AVX512F__)
 constexpr bool kHashesApply = true;
+#define JAWARI_CHECKSUM_TAGS "[checksum]"
 #else
 constexpr bool kHashesApply = false;
+#define JAWARI_CHECKSUM_TAGS "[.][checksum]"
 #endif
 
 struct Fnv1a
@@ -55,7 +60,7 @@ void checkHash(const char* what, uint64_t actual, uint64_t expected)
     INFO(what << ": " << hex(actual) << ", stored " << hex(expected));
     if (!kHashesApply)
     {
-        WARN(what << ": " << hex(actual) << " (hashes are checked only on the plain Release build, GCC 12, AVX-512)");
+        WARN(what << ": " << hex(actual) << " (not checked: hashes are of the plain Release build, GCC 12, AVX-512)");
         return;
     }
     CHECK(actual == expected);
@@ -134,13 +139,13 @@ uint64_t hashInstrument(ObstacleShape shape)
 }
 }  // namespace
 
-TEST_CASE("The reference renders both paper scenes bit for bit as stored", "[checksum]")
+TEST_CASE("The reference renders both paper scenes bit for bit as stored", JAWARI_CHECKSUM_TAGS)
 {
     checkHash("reference, paper-centre", hashRender(paperScene("paper-centre.json", 0.04)), 0x059ace1e766e7135ull);
     checkHash("reference, paper-tanpura", hashRender(paperScene("paper-tanpura.json", 0.04)), 0x4f9154f6543d6fa4ull);
 }
 
-TEST_CASE("The reference's transform path renders a bridge bit for bit as stored", "[checksum]")
+TEST_CASE("The reference's transform path renders a bridge bit for bit as stored", JAWARI_CHECKSUM_TAGS)
 {
     Scene scene = paperScene("paper-centre.json", 0.02);
     Obstacle bridge;
@@ -157,7 +162,7 @@ TEST_CASE("The reference's transform path renders a bridge bit for bit as stored
     checkHash("reference, DST bridge", hashRender(scene), 0xc94b16053c8ca131ull);
 }
 
-TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every method", "[checksum]")
+TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every method", JAWARI_CHECKSUM_TAGS)
 {
     checkHash("voice, paper-centre", hashRender(voiceScene("paper-centre.json", ContactMethod::energyConserving, 0.3)),
               0x7e5cc1713de9e1d8ull);
@@ -172,7 +177,7 @@ TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every
     checkHash("penalty, soft centre", hashRender(soft), 0xe7ee43fb56095375ull);
 }
 
-TEST_CASE("The instrument plays a script bit for bit as stored, on each obstacle shape", "[checksum]")
+TEST_CASE("The instrument plays a script bit for bit as stored, on each obstacle shape", JAWARI_CHECKSUM_TAGS)
 {
     checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0xebdf86df8e824afcull);
     checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola), 0xf19947b904c9c207ull);

@@ -1,7 +1,7 @@
 // The accuracy measures converge (docs/design.md section 4): the voice at the reference's own modes
-// and rate differs from the reference by no more than the reference differs from itself under a
-// 1e-4 change of the pluck (the floor), on every preset scene, and the distributed bridge's answer
-// depends on its own contact points, not on the modes kept.
+// and rate, against the reference and against the reference's own floor (the reference under a 1e-4
+// change of the pluck), on every preset scene; and the distributed bridge's answer moves far less
+// with the modes kept on its own contact points than on the mode grid.
 
 #include "TestSupport.h"
 #include "offline/Analysis.h"
@@ -27,12 +27,31 @@ AccuracyFigures measure(const RenderResult& y, const RenderResult& ref, const Sc
 }
 }  // namespace
 
-TEST_CASE("the voice at the reference's modes and rate is within the reference's own floor on every preset scene")
+namespace
+{
+// The voice at the reference's modes and rate against the reference, measured over 0.3 s: relL2, LSD
+// (dB) and the centroid track's distance. Their ratios to the floor: relL2 0.3x (paper-tanpura) to
+// 17x (bass-frets), LSD 0.016x (free-string) to 46x (tanpura-sa).
+struct VoiceDistance
+{
+    const char* scene;
+    double relL2, lsd, centroid;
+};
+constexpr VoiceDistance kVoiceDistances[] = {
+    {"paper-centre", 9.375e-4, 0.01733, 1.557e-6},  {"paper-tanpura", 2.998e-5, 9.139e-5, 4.363e-8},
+    {"tanpura-sa", 1.563e-3, 0.03257, 1.207e-6},    {"tanpura-pa", 4.975e-4, 6.717e-3, 1.439e-7},
+    {"sitar-bridge", 2.158e-4, 9.893e-4, 4.501e-7}, {"bass-frets", 3.065e-3, 0.05519, 1.995e-4},
+    {"free-string", 1.185e-4, 7.515e-6, 4.060e-8}};
+constexpr double kDistanceTolerance = 0.25;
+}  // namespace
+
+TEST_CASE("the voice at the reference's modes and rate: its envelope within the reference's own floor, its "
+          "waveform and spectrum at their measured distances (up to 17x and 46x the floor) on every preset scene")
 {
     const double seconds = 0.3;
-    for (const char* name :
-         {"paper-centre", "paper-tanpura", "tanpura-sa", "tanpura-pa", "sitar-bridge", "bass-frets", "free-string"})
+    for (const auto& expected : kVoiceDistances)
     {
+        const char* name = expected.scene;
         auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name + ".json"));
         scene.simulation.durationSeconds = seconds;
         scene.simulation.rateHz = 42 * 48000.0;  // 2.016 MHz: the reference's rate, a whole multiple for the voice
@@ -50,25 +69,27 @@ TEST_CASE("the voice at the reference's modes and rate is within the reference's
         const auto floor = measure(renderScene(perturbed), reference, scene, seconds);
         const auto voice = measure(voiceOf(scene), reference, scene, seconds);
         // What the two output filters (the voice's decimator, the reference's resampler) make of the
-        // same string without its obstacles: both exact there, so this is the filters' own difference.
+        // same string without its obstacles: both exact there, so this is the filters' own difference,
+        // most of the voice's distance where the buzz puts the sound near 20 kHz (tanpura-sa, bass-frets).
         auto free = scene;
         free.obstacles.clear();
         const auto filters = measure(voiceOf(free), renderScene(free), free, seconds);
-        INFO(name << ": voice relL2 " << voice.relL2 << " LSD " << voice.lsd << " dB envelope " << voice.envelope
-                  << " dB centroid " << voice.centroid << "; floor (1e-4) relL2 " << floor.relL2 << " LSD " << floor.lsd
-                  << " dB envelope " << floor.envelope << " dB centroid " << floor.centroid << "; filters relL2 "
-                  << filters.relL2 << " LSD " << filters.lsd);
-        // Each measure within its floor, or within twice the filters' difference (the buzz puts more of
-        // the sound near 20 kHz, where they differ: up to 1.6x the free string's relL2 here), or within
-        // a small absolute margin.
-        CHECK(voice.relL2 <= std::max({floor.relL2, 2.0 * filters.relL2, 1e-3}));
-        CHECK(voice.lsd <= std::max({floor.lsd, 2.0 * filters.lsd, 0.05}));
-        CHECK(voice.envelope <= std::max(floor.envelope, 0.05));
-        CHECK(voice.centroid <= std::max(floor.centroid, 1e-3));
+        INFO(name << ": relL2 " << voice.relL2 << " (measured " << expected.relL2 << " +-25 % binds; floor "
+                  << floor.relL2 << ", " << voice.relL2 / floor.relL2 << "x; filters " << filters.relL2 << "); LSD "
+                  << voice.lsd << " dB (measured " << expected.lsd << " +-25 % binds; floor " << floor.lsd << ", "
+                  << voice.lsd / floor.lsd << "x; filters " << filters.lsd << "); envelope " << voice.envelope
+                  << " dB (the floor " << floor.envelope << " binds); centroid " << voice.centroid << " (measured "
+                  << expected.centroid << " +25 % binds; floor " << floor.centroid << ")");
+        CHECK(voice.relL2 == Approx(expected.relL2).epsilon(kDistanceTolerance));
+        CHECK(voice.lsd == Approx(expected.lsd).epsilon(kDistanceTolerance));
+        CHECK(voice.envelope <= floor.envelope);
+        // The centroid tracks agree to 2e-4 at most (bass-frets): bounded from above only.
+        CHECK(voice.centroid <= (1.0 + kDistanceTolerance) * expected.centroid);
     }
 }
 
-TEST_CASE("a bridge's contact points are its own: the voice's answer barely moves with M")
+TEST_CASE("a bridge's contact points are its own: from 197 to 260 modes the voice moves 1.4 dB, a seventh of its move "
+          "with the bridge on the mode grid")
 {
     const double seconds = 0.5;
     auto scene = loadSceneFile(test::resource("Scenes/sitar-bridge.json"));
@@ -99,9 +120,11 @@ TEST_CASE("a bridge's contact points are its own: the voice's answer barely move
     INFO("LSD 197 -> 260 modes: fixed points " << fixedChange << " dB, on the mode grid " << gridChange
                                                 << " dB; reference at 1.8 mm against 0.9 mm " << twice
                                                 << " dB, at 3.6 mm " << fourTimes << " dB");
-    // Measured 1.37 dB against 9.13 dB.
-    CHECK(fixedChange < 1.5);
-    CHECK(fixedChange < 0.5 * gridChange);
+    // Measured 1.37 dB against 9.13 dB (0.15x), each asserted within 25 %: the answer still moves
+    // with M on fixed points, by far less than on the mode grid.
+    CHECK(fixedChange == Approx(1.37).epsilon(0.25));
+    CHECK(gridChange == Approx(9.13).epsilon(0.25));
+    CHECK(fixedChange < 0.25 * gridChange);
     // The reference is not yet converged in the spacing (1.92 and 2.25 dB; at 2003 modes, 0.45 mm
     // against 0.9 mm is 2.67 dB, and 4 MHz against 2 MHz 1.72 dB: docs/measurements.md), so this
     // only states that coarser is further away.

@@ -3,7 +3,6 @@
 
 #include "TestSupport.h"
 #include "offline/Analysis.h"
-#include "realtime/Denormals.h"
 #include "realtime/Instrument.h"
 #include "realtime/Voice.h"
 
@@ -11,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 using namespace jawari;
@@ -39,6 +39,8 @@ double largestStep(const std::vector<double>& y, size_t begin, size_t end)
         m = std::max(m, std::abs(y[n] - y[n - 1]));
     return m;
 }
+
+constexpr int kHeldBlocks = 80;  // 8 s
 
 InstrumentStructure freeStructure()
 {
@@ -187,9 +189,12 @@ TEST_CASE("The tanpura drone plucks Pa Sa Sa Sa in cycle on its own bridges", "[
     double peak = 0.0;
     for (double v : y)
         peak = std::max(peak, std::abs(v));
+    INFO("peak " << peak << ", blow-ups " << instrument.blowUps() << ", samples limited "
+                 << instrument.limitedSamples());
     CHECK(peak > 0.01);
-    CHECK(peak < 1.0);
+    CHECK(peak < 1.0);  // below full scale, the output guard (at 4) untouched
     CHECK(instrument.blowUps() == 0);
+    CHECK(instrument.limitedSamples() == 0);
 }
 
 TEST_CASE("A new obstacle position takes over the sounding string without a jump", "[instrument]")
@@ -217,37 +222,41 @@ TEST_CASE("A new obstacle position takes over the sounding string without a jump
     CHECK(instrument.activeStrings() == 1);
 }
 
-TEST_CASE("A string decaying to nothing leaves no subnormal numbers behind", "[instrument]")
+TEST_CASE("A held string's fast modes decay through the instrument's render to zero, never to a subnormal number",
+          "[instrument]")
 {
-    // The instrument renders with flush-to-zero: a released string's modes decay through the
-    // subnormal range (below 2.2e-308) straight to zero instead of crawling through it slowly.
-    InstrumentStructure s = freeStructure();
-    s.releaseSeconds = 0.05;  // 60 dB in 50 ms: e^-700 after about 25 s
-    auto pack = buildVoicePack(s);
+    // Instrument::render steps the strings with flush-to-zero: a mode decays through the subnormal
+    // range (below 2.2e-308) straight to zero instead of crawling through it slowly. A held note's
+    // high modes decay far faster than its fundamental (Valette's law), so they pass that range
+    // while the string still sounds. The test sets no floating-point mode of its own: it sees
+    // subnormal numbers unless the render flushes them.
+    volatile double tiny = 1e-300;
+    REQUIRE(tiny * 1e-10 != 0.0);  // this thread keeps subnormal numbers
+    auto pack = buildVoicePack(freeStructure());
     Instrument instrument;
     instrument.setControls(freeControls());
     instrument.install(pack.get(), nullptr);
     instrument.noteOn(60, 1.0);
-    play(instrument, 0.1);
-    instrument.noteOff(60);
-    // Keep the string stepping (a sounding slot stops at -100 dB; this voice is driven directly).
     Voice& voice = *pack->voices[0];
-    std::vector<double> out(4800 * size_t(pack->oversampling));
-    for (int b = 0; b < 400; ++b)  // 40 s
-    {
-        ScopedFlushDenormals flush;
-        voice.processInternal(out.data(), 4800);
-    }
+    REQUIRE(instrument.slotNote(0) == 60);
     long subnormal = 0, zero = 0;
-    for (bool previous : {false, true})
-        for (double q : voice.solver().modalState(previous))
-        {
-            subnormal += std::fpclassify(q) == FP_SUBNORMAL ? 1 : 0;
-            zero += q == 0.0 ? 1 : 0;
-        }
-    INFO("modal values: " << zero << " exactly zero, " << subnormal << " subnormal");
+    std::vector<float> l(4800), r(4800);
+    for (int b = 0; b < kHeldBlocks; ++b)  // 0.1 s each
+    {
+        instrument.render(l.data(), r.data(), 4800);
+        zero = 0;
+        for (bool previous : {false, true})
+            for (double q : voice.solver().modalState(previous))
+            {
+                subnormal += std::fpclassify(q) == FP_SUBNORMAL ? 1 : 0;
+                zero += q == 0.0 ? 1 : 0;
+            }
+    }
+    INFO("after " << kHeldBlocks / 10.0 << " s: " << zero << " of " << 2 * pack->modes
+                  << " modal values exactly zero; subnormal values seen after any block " << subnormal);
+    CHECK(instrument.activeStrings() == 1);  // still sounding, still stepped
     CHECK(subnormal == 0);
-    CHECK(zero > 0);  // the decay did reach the bottom of the range
+    CHECK(zero > 0);  // the fast modes did reach the bottom of the range
 }
 
 TEST_CASE("MPE: one note bends on its own channel while another holds its pitch; pressure and slide act per note",
@@ -394,6 +403,7 @@ TEST_CASE("With two polarisations the instrument plays in tune on the tanpura's 
         outputs[k] = play(instrument, 1.0);
         REQUIRE(instrument.snapshots().read(snapshots[k]));
         CHECK(instrument.blowUps() == 0);
+        CHECK(instrument.limitedSamples() == 0);
     }
     // The pitch one polarisation plays on this point (its contact raises it a little).
     const double f1 = peakFrequency(outputs[0], 48000.0, 180.0, 260.0, 4800);
@@ -422,5 +432,75 @@ TEST_CASE("With two polarisations the instrument plays in tune on the tanpura's 
     CHECK_FALSE(snapshots[0].twoPolarisations);
     CHECK(across[0] == 0.0);
     CHECK(snapshots[1].twoPolarisations);
-    CHECK(across[1] > 1e-3 * most[1]);  // after 1 s the motion has turned: as large as the vertical's
+    // After 1 s the motion has turned: the horizontal as large as the vertical (measured 1.23x:
+    // 1.53e-4 m against 1.24e-4 m), within 30 %.
+    CHECK(across[1] / most[1] == Approx(1.23).epsilon(0.3));
+}
+
+TEST_CASE("The guards act and are counted: samples beyond the output's ceiling, non-finite samples, blow-ups",
+          "[instrument]")
+{
+    // Eight loud notes at +24 dB: far beyond full scale, and beyond the guard's +12 dBFS.
+    {
+        auto pack = buildVoicePack(freeStructure());
+        Instrument instrument;
+        auto c = freeControls();
+        c.gainDb = 24.0;
+        instrument.setControls(c);
+        instrument.install(pack.get(), nullptr);
+        instrument.settleControls();
+        instrument.clearActivity();
+        for (int i = 0; i < kMidiVoices; ++i)
+            instrument.noteOn(48 + 2 * i, 1.0);
+        std::vector<float> l(4800), r(4800);
+        instrument.render(l.data(), r.data(), 4800);
+        float peak = 0.0f;
+        long beyondFullScale = 0;
+        for (size_t n = 0; n < l.size(); ++n)
+        {
+            peak = std::max({peak, std::abs(l[n]), std::abs(r[n])});
+            beyondFullScale += (std::abs(l[n]) > 1.0f ? 1 : 0) + (std::abs(r[n]) > 1.0f ? 1 : 0);
+        }
+        InstrumentSnapshot snapshot;
+        REQUIRE(instrument.snapshots().read(snapshot));
+        INFO("peak " << peak << ", samples beyond full scale " << beyondFullScale << ", limited "
+                     << instrument.limitedSamples() << " (snapshot " << snapshot.limited << ")");
+        CHECK(peak == kOutputCeiling);
+        CHECK(instrument.limitedSamples() > 0);
+        CHECK(beyondFullScale > instrument.limitedSamples());  // between full scale and the ceiling: passed
+        CHECK(instrument.activity().limitedSamples == instrument.limitedSamples());
+        CHECK(snapshot.limited > 0);
+        CHECK(snapshot.limited <= instrument.limitedSamples());
+        CHECK(instrument.blowUps() == 0);
+    }
+    // The guard itself: NaN and the infinities, and what lies beyond the ceiling.
+    {
+        const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+        std::vector<float> y{0.5f, nan, inf, -inf, 4.0f, -4.5f, 3.9f, 1.5f, -1.0f};
+        CHECK(guardOutput(y.data(), int(y.size())) == 4);
+        CHECK(y == std::vector<float>{0.5f, 0.0f, 0.0f, 0.0f, 4.0f, -4.0f, 3.9f, 1.5f, -1.0f});
+    }
+    // The explicit penalty force on the tanpura's point at draft's rate runs away: the voice's guard
+    // restarts the string from rest, counted, and the count outlives the pack it happened in.
+    {
+        auto s = test::scriptStructure(ObstacleShape::point);
+        s.method = ContactMethod::penalty;
+        auto pack = buildVoicePack(s), next = buildVoicePack(s);
+        Instrument instrument;
+        instrument.install(pack.get(), nullptr);
+        instrument.setControls(InstrumentControls{});
+        instrument.settleControls();
+        instrument.noteOn(55, 1.0);
+        play(instrument, 0.5);
+        const long blowUps = instrument.blowUps();
+        InstrumentSnapshot snapshot;
+        REQUIRE(instrument.snapshots().read(snapshot));
+        INFO("blow-ups " << blowUps << " (snapshot " << snapshot.blowUps << "), limited "
+                         << instrument.limitedSamples());
+        CHECK(blowUps > 0);
+        CHECK(snapshot.blowUps > 0);
+        CHECK(instrument.limitedSamples() == 0);  // the voice's guard muted it first
+        instrument.install(next.get(), pack.get());
+        CHECK(instrument.blowUps() == blowUps);
+    }
 }

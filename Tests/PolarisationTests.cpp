@@ -84,7 +84,8 @@ TEST_CASE("Two polarisations coupled by a tilted spring conserve the whole strin
     INFO("relative drift " << worst << ", the horizontal's most energy " << mostHorizontal / H0
                            << " of the total, steps touching " << touching);
     CHECK(worst < 1e-9);
-    CHECK(mostHorizontal > 1e-4 * H0);
+    // The horizontal's largest share of the energy: measured 0.105, within 25 %.
+    CHECK(mostHorizontal / H0 == Approx(0.105).epsilon(0.25));
     CHECK(touching > 1000);
 }
 
@@ -301,6 +302,22 @@ TEST_CASE("Scenes refuse a second polarisation they cannot play, naming the fiel
 
 #include "offline/Analysis.h"
 
+namespace
+{
+// The scene's string without its obstacles, by the voice at the modes and rate it played the scene
+// with (`played`: its automatic quality for a bridge is not the one for a free string).
+std::vector<double> withoutObstacles(Scene scene, const RenderResult& played)
+{
+    scene.obstacles.clear();
+    scene.simulation.modes = played.stats.modes / (scene.secondPolarisation ? 2 : 1);
+    scene.simulation.rateHz = played.stats.internalRateHz;
+    auto free = renderScene(scene);
+    REQUIRE(free.stats.modes == played.stats.modes);
+    REQUIRE(free.stats.internalRateHz == played.stats.internalRateHz);
+    return free.output;
+}
+}  // namespace
+
 TEST_CASE("The voice plays two polarisations, its coupling in its modes, close to the reference's spring",
           "[polarisations]")
 {
@@ -345,7 +362,8 @@ TEST_CASE("With two polarisations the tanpura's band of overtones still falls as
     second.excitationAngle = 0.3;
     second.coupling = {scene.string.lengthMetres - 0.01, 0.5, 0.1 * scene.string.tensionNewtons / 0.01};
     scene.secondPolarisation = second;
-    test::checkBandFalls(renderScene(scene).output, 195.998);
+    const auto played = renderScene(scene);
+    test::checkBandFalls(played.output, withoutObstacles(scene, played), 195.998);
 }
 
 TEST_CASE("A thread laid across a bridge: the string rests on it, the bridge a diameter below, in scenes and in "
@@ -410,6 +428,7 @@ TEST_CASE("A thread laid across a bridge: the string rests on it, the bridge a d
     }
     CHECK(loudest > 0.01);
     CHECK(instrument.blowUps() == 0);
+    CHECK(instrument.limitedSamples() == 0);
 }
 
 namespace
@@ -418,7 +437,7 @@ namespace
 // a 10 mm parabolic bridge, a 0.2 mm thread `offset` from its edge, the second polarisation coupled
 // 1 cm from the far end as the instrument couples it), by the voice at its automatic quality, with
 // one polarisation or two.
-std::vector<double> threadedTanpura(double offset, bool twoPolarisations)
+Scene threadedTanpuraScene(double offset, bool twoPolarisations)
 {
     auto scene = loadSceneFile(test::resource("Scenes/tanpura-thread.json"));
     scene.simulation.reference = false;
@@ -432,7 +451,12 @@ std::vector<double> threadedTanpura(double offset, bool twoPolarisations)
     bridge.height = 0.0;
     const Obstacle thread = layThread(bridge, Thread{offset, 0.2e-3, scene.obstacles[1].law});
     scene.obstacles = {bridge, thread};
-    return renderScene(scene).output;
+    return scene;
+}
+
+std::vector<double> threadedTanpura(double offset, bool twoPolarisations)
+{
+    return renderScene(threadedTanpuraScene(offset, twoPolarisations)).output;
 }
 }  // namespace
 
@@ -442,7 +466,9 @@ TEST_CASE("With two polarisations and the thread the tanpura's band of overtones
     // van Walstijn and Chatziioannou (ISMA 2014): the band of overtones the bridge raises moves down
     // as the string loses energy. Here on the Tanpura thread preset's string, bridge and thread (6 mm
     // from the bridge's edge), both polarisations, the horizontal excited only through the coupling.
-    test::checkBandFalls(threadedTanpura(0.006, true), 196.0);
+    const auto scene = threadedTanpuraScene(0.006, true);
+    const auto played = renderScene(scene);
+    test::checkBandFalls(played.output, withoutObstacles(scene, played), 196.0);
 }
 
 TEST_CASE("The thread's position moves the buzz band, as much with one polarisation as with two", "[polarisations]")

@@ -1,5 +1,5 @@
 // The instrument's rendering: packs installed, the controls smoothed and applied (contact, damping,
-// retunes), each chunk's strings stepped and mixed, the output limited, the editor's snapshot.
+// retunes), each chunk's strings stepped and mixed, the output guarded, the editor's snapshot.
 
 #include "realtime/Instrument.h"
 
@@ -48,7 +48,9 @@ void Instrument::install(VoicePack* pack, VoicePack* previous)
                        && previous->structure.hostRateHz == pack->structure.hostRateHz;
     if (carry)
         pack->takeMotionFrom(*previous);
+    blowUpsRetired_ += packBlowUps() - blowUpsAtInstall_;
     pack_ = pack;
+    blowUpsAtInstall_ = packBlowUps();
     ++activity_.packsInstalled;
     fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * pack->structure.hostRateHz)));
     dampingDirty_ = true;
@@ -133,6 +135,9 @@ void Instrument::render(float* left, float* right, int numSamples)
         retuneSounding(count, rate);
         scheduleDrone(count);
         mixChunk(left + offset, right + offset, count, gainStart);
+        const long limited = guardOutput(left + offset, count) + guardOutput(right + offset, count);
+        limitedSamples_ += limited;
+        activity_.limitedSamples += limited;
         if (++chunksSinceSnapshot_ * kChunk >= rate / 30.0)
         {
             publishSnapshot();
@@ -140,7 +145,6 @@ void Instrument::render(float* left, float* right, int numSamples)
             chunkPenetration_ = 0.0;
         }
     }
-    limitOutput(left, right, numSamples);
 }
 
 void Instrument::settleControls()
@@ -310,14 +314,17 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
         s.sounding = false;
 }
 
-// Nothing non-finite and nothing beyond full scale reaches the host.
-void Instrument::limitOutput(float* left, float* right, int numSamples)
+long guardOutput(float* samples, int numSamples)
 {
+    long changed = 0;
     for (int n = 0; n < numSamples; ++n)
     {
-        left[n] = std::isfinite(left[n]) ? std::clamp(left[n], -1.0f, 1.0f) : 0.0f;
-        right[n] = std::isfinite(right[n]) ? std::clamp(right[n], -1.0f, 1.0f) : 0.0f;
+        const float v = samples[n];
+        const float guarded = std::isfinite(v) ? std::clamp(v, -kOutputCeiling, kOutputCeiling) : 0.0f;
+        changed += guarded != v ? 1 : 0;  // a NaN differs from its 0 too
+        samples[n] = guarded;
     }
+    return changed;
 }
 
 int Instrument::activeStrings() const
@@ -329,6 +336,11 @@ int Instrument::activeStrings() const
 }
 
 long Instrument::blowUps() const
+{
+    return blowUpsRetired_ + packBlowUps() - blowUpsAtInstall_;
+}
+
+long Instrument::packBlowUps() const
 {
     long n = 0;
     if (pack_ != nullptr)
@@ -375,6 +387,7 @@ void Instrument::publishSnapshot()
     snap.maxIterations = maxIterations_;
     snap.activeStrings = activeStrings();
     snap.blowUps = blowUps();
+    snap.limited = limitedSamples_;
     snap.sequence = ++snapshotSequence_;
     snapshots_.publish();
 }

@@ -206,6 +206,7 @@ struct InstrumentSnapshot
     int maxIterations = 0;
     int activeStrings = 0;
     long blowUps = 0;
+    long limited = 0;  // output samples the guard changed (Instrument::limitedSamples)
     uint64_t sequence = 0;
 };
 
@@ -223,7 +224,15 @@ struct InstrumentActivity
     long workerStrings = 0;     // string chunks the second core stepped
     long workerRevoked = 0;     // string chunks taken back from the second core, late
     long workerUnstarted = 0;   // string chunks the second core had not started when collected
+    long limitedSamples = 0;    // output samples the guard changed (guardOutput)
 };
+
+// The output's safety guard, the last step of Instrument::render: a non-finite sample becomes 0 and
+// a sample beyond +-kOutputCeiling (+12 dBFS) is clamped to it; between full scale and the ceiling
+// a sample passes (hosts mix in floating point). Returns how many samples it changed: any at all
+// means something went wrong upstream. RT.
+inline constexpr float kOutputCeiling = 4.0f;
+long guardOutput(float* samples, int numSamples);
 
 class Instrument
 {
@@ -265,7 +274,10 @@ public:
 
     SnapshotBuffer<InstrumentSnapshot>& snapshots() { return snapshots_; }
     int activeStrings() const;
+    // The voices' blow-ups (a string that ran away, restarted from rest: Voice::blowUps) and the
+    // output samples the guard changed, since construction, every pack's. Plain counters.
     long blowUps() const;
+    long limitedSamples() const { return limitedSamples_; }
     int maxIterations() const { return maxIterations_; }  // the most of any step since construction
     long dronePlucks() const { return dronePlucks_; }
     const InstrumentActivity& activity() const { return activity_; }
@@ -324,7 +336,7 @@ private:
     void stepWithWorker(Sounding& sounding, int samples);
     void mixString(int slot, const double* block, const double* second, int count, double gainStart);
     void startPendingNote(int slot);
-    static void limitOutput(float* left, float* right, int numSamples);
+    long packBlowUps() const;  // the installed pack's voices' own counts
 
     // Per-note expression of each MIDI channel (index 1..16; 0 stays neutral).
     struct Expression
@@ -359,6 +371,9 @@ private:
     int chunksSinceSnapshot_ = 0;
     uint64_t chunkClock_ = 0;
     double chunkPenetration_ = 0.0;
+    long limitedSamples_ = 0;
+    long blowUpsRetired_ = 0;    // blow-ups in the packs installed before this one, since their install
+    long blowUpsAtInstall_ = 0;  // the installed pack's count when it was installed
     SnapshotBuffer<InstrumentSnapshot> snapshots_;
     uint64_t snapshotSequence_ = 0;
 };
