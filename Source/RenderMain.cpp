@@ -166,9 +166,11 @@ void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySampl
             out << line;
         }
         out.flush();
-        if (out.getStatus().failed())
+        // A write cut short (a full disk) leaves the status clean: the size on disk tells.
+        if (out.getStatus().failed() || temp.getFile().getSize() < out.getPosition())
             throw std::runtime_error("writing the energy log failed: "
-                                     + out.getStatus().getErrorMessage().toStdString());
+                                     + (out.getStatus().failed() ? out.getStatus().getErrorMessage().toStdString()
+                                                                 : std::string("the data did not all reach the disk")));
     }
     if (!temp.overwriteTargetFileWithTemporary())
         throw std::runtime_error("cannot move the finished energy log to '" + target.getFullPathName().toStdString()
