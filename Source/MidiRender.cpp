@@ -120,8 +120,6 @@ MidiRenderStats renderScore(plugin::JawariAudioProcessor& processor, const MidiS
         const float* right = buffer.getReadPointer(1) + skip;
         const int count = skip < block ? ending.keep(left, right, block - skip, stats.samples) : 0;
         sink(left, right, count);
-        for (int i = 0; i < count; ++i)
-            stats.peak = std::max({stats.peak, double(std::abs(left[i])), double(std::abs(right[i]))});
         stats.samples += count;
         if (settings.progress && (++blocksSinceProgress == 32 || ending.done()))
         {

@@ -29,7 +29,6 @@ struct MidiRenderSettings
 struct MidiRenderStats
 {
     long long samples = 0;
-    double peak = 0.0;        // the largest |sample| written, either channel
     int latencySamples = 0;   // the processor's, removed from the output
     bool tailCapped = false;  // the output never fell silent: stopped tailCapSeconds after the last event
 };

@@ -2,19 +2,22 @@
 // (docs/scenes.md).
 //
 //   jawari-render SCENE.json -o OUT.wav [--method reference] [--modes M] [--rate HZ]
-//                 [--duration S] [--output-rate HZ] [--raw] [--energy FILE.csv] [--quiet]
+//                 [--duration S] [--output-rate HZ] [--format int24|float] [--raw] [--energy FILE.csv]
+//                 [--quiet]
 //   jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
-//                 [--output-rate HZ] [--quiet]
+//                 [--output-rate HZ] [--format int24|float] [--quiet]
 //   jawari-render --preset NAME -o OUT.wav --duration S [--output-rate HZ] [--quiet]   (the drone alone)
 //
 // Exit status: 0 done, 2 bad input or arguments (the message names the problem), 1 anything else.
-// Files are written to a temporary beside the target and moved into place only when complete.
+// Samples a 24-bit file clips are a warning on stderr (status 0). Files are written to a temporary
+// beside the target and moved into place only when complete.
 
 #include "MidiRender.h"
 #include "MidiScore.h"
 #include "Parameters.h"
 #include "PluginProcessor.h"
 #include "Presets.h"
+#include "WavOutput.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
 
@@ -41,7 +44,7 @@ constexpr const char* usage =
 
 usage: jawari-render SCENE.json -o OUT.wav [options]
        jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
-                     [--output-rate HZ] [--second-core] [--quiet]
+                     [--output-rate HZ] [--format int24|float] [--second-core] [--quiet]
        jawari-render --preset NAME | --state FILE -o OUT.wav --duration S   (the drone alone)
 
   -o, --output FILE       the WAV file to write (required)
@@ -53,16 +56,18 @@ usage: jawari-render SCENE.json -o OUT.wav [options]
   --rate HZ               internal simulation rate in Hz
   --duration S            seconds to render
   --output-rate HZ        sample rate of the WAV file
+  --format NAME           the WAV's samples: int24 (24-bit integer, the default) or float (32-bit
+                          IEEE float); a scene is normalised to a -1 dBFS peak in either
   --raw                   write the pickup quantity in SI units (m, m/s or N) as 32-bit float,
-                          instead of 24-bit audio normalised to a -1 dBFS peak
+                          not normalised (implies --format float)
   --energy FILE.csv       log per output sample: time, energy H, contact energy, Newton iterations
   --quiet                 no progress bar and no summary
   -h, --help              this text
 
 MIDI (instead of a scene file):
   --midi FILE.mid         a Standard MIDI File (type 0 or 1, its tempo map honoured) played through
-                          the plugin's AudioProcessor; writes stereo 24-bit at the plugin's level,
-                          its latency removed (an event at t s sounds at sample t x rate). Without
+                          the plugin's AudioProcessor; writes stereo at the plugin's level, its
+                          latency removed (an event at t s sounds at sample t x rate). Without
                           --duration the file ends once the output has stayed below -100 dBFS for
                           0.5 s after the last event, at most 60 s after it
   --preset NAME           a factory preset, by its name or the part before the parenthesis
@@ -70,6 +75,9 @@ MIDI (instead of a scene file):
                           "Bass fret buzz", "Tanpura thread"); the plugin's defaults (Default) without it
   --state FILE            a state saved by the plugin as XML (a user preset, .jawaripreset)
   --output-rate HZ        the rate the plugin runs at: 22050 to 192000 Hz (default 48000)
+  --format NAME           int24 (the default): 24-bit, where samples at or beyond full scale are
+                          clipped, with a warning that counts them; float: 32-bit float, every
+                          sample as the plugin gives it, above full scale included
   --second-core           the plugin's "use a second core": half the strings stepped on another
                           thread (faster on two free cores; the same samples to the last bit)
 
@@ -123,61 +131,23 @@ long long parseWhole(const juce::String& option, const juce::String& text)
     return static_cast<long long>(v);
 }
 
-// A WAV file written to a temporary beside its target and moved into place by finish(); one
-// destroyed unfinished (a failed render) leaves the target as it was.
-class WavOutput
-{
-public:
-    WavOutput(const juce::File& target, double rate, int channels, int bits)
-        : target_(target)
-        , temp_(target)
-        , channels_(channels)
-    {
-        auto stream = std::make_unique<juce::FileOutputStream>(temp_.getFile());
-        if (!stream->openedOk())
-            throw std::runtime_error("cannot write '" + temp_.getFile().getFullPathName().toStdString() + "'");
-        juce::WavAudioFormat wav;
-        writer_.reset(wav.createWriterFor(stream.get(), rate, static_cast<unsigned>(channels), bits, {}, 0));
-        if (writer_ == nullptr)
-            throw std::runtime_error("cannot create a WAV writer at " + std::to_string(rate) + " Hz");
-        stream.release();  // the writer owns it now
-    }
-
-    void write(const float* const* channels, int count)
-    {
-        if (count > 0 && !writer_->writeFromFloatArrays(channels, channels_, count))
-            throw std::runtime_error("writing the WAV data failed");
-    }
-
-    void finish()
-    {
-        writer_.reset();  // completes the header and closes the file
-        if (!temp_.overwriteTargetFileWithTemporary())
-            throw std::runtime_error("cannot move the finished WAV to '" + target_.getFullPathName().toStdString()
-                                     + "'");
-    }
-
-private:
-    juce::File target_;
-    juce::TemporaryFile temp_;
-    int channels_;
-    std::unique_ptr<juce::AudioFormatWriter> writer_;  // destroyed before temp_
-};
-
-void writeWav(const juce::File& target, const std::vector<double>& samples, int rate, bool raw, double& peakOut)
+// A scene's pickup signal as a mono WAV: normalised to a -1 dBFS peak (so a 24-bit file never
+// clips), or raw in SI units. Returns the signal's peak before normalising.
+double writeWav(const juce::File& target, const std::vector<double>& samples, int rate, bool raw,
+                jawari::render::SampleFormat format)
 {
     double peak = 0.0;
     for (double v : samples)
         peak = std::max(peak, std::abs(v));
-    peakOut = peak;
     const double gain = raw ? 1.0 : (peak > 0.0 ? std::pow(10.0, -1.0 / 20.0) / peak : 0.0);
     std::vector<float> mono(samples.size());
     for (size_t i = 0; i < samples.size(); ++i)
         mono[i] = static_cast<float>(samples[i] * gain);
-    WavOutput out(target, rate, 1, raw ? 32 : 24);
+    jawari::render::WavOutput out(target, rate, 1, format);
     const float* channels[] = {mono.data()};
     out.write(channels, static_cast<int>(mono.size()));
     out.finish();
+    return peak;
 }
 
 void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySample>& energy)
@@ -196,9 +166,11 @@ void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySampl
             out << line;
         }
         out.flush();
-        if (out.getStatus().failed())
+        // A write cut short (a full disk) leaves the status clean: the size on disk tells.
+        if (out.getStatus().failed() || temp.getFile().getSize() < out.getPosition())
             throw std::runtime_error("writing the energy log failed: "
-                                     + out.getStatus().getErrorMessage().toStdString());
+                                     + (out.getStatus().failed() ? out.getStatus().getErrorMessage().toStdString()
+                                                                 : std::string("the data did not all reach the disk")));
     }
     if (!temp.overwriteTargetFileWithTemporary())
         throw std::runtime_error("cannot move the finished energy log to '" + target.getFullPathName().toStdString()
@@ -209,7 +181,7 @@ void writeEnergy(const juce::File& target, const std::vector<jawari::EnergySampl
 struct Request
 {
     juce::String scenePath;
-    std::optional<juce::String> output, method, modes, rate, duration, outputRate, energyPath;
+    std::optional<juce::String> output, method, modes, rate, duration, outputRate, format, energyPath;
     std::optional<juce::String> midiPath, preset, statePath;
     bool raw = false, quiet = false, secondCore = false;
     bool throughPlugin = false;  // --midi, or the drone alone: no scene file
@@ -257,6 +229,7 @@ Request parseArguments(int argc, char* argv[])
     q.rate = optionValue(args, "--rate");
     q.duration = optionValue(args, "--duration");
     q.outputRate = optionValue(args, "--output-rate");
+    q.format = optionValue(args, "--format");
     q.energyPath = optionValue(args, "--energy");
     q.midiPath = optionValue(args, "--midi");
     q.preset = optionValue(args, "--preset");
@@ -280,6 +253,18 @@ Request parseArguments(int argc, char* argv[])
     if (!q.output)
         throw UsageError("no output file: give -o OUT.wav");
     return q;
+}
+
+// --format, and --raw's float: int24 unless asked otherwise.
+jawari::render::SampleFormat sampleFormatFor(const Request& q)
+{
+    using jawari::render::SampleFormat;
+    const auto format = q.format ? jawari::render::sampleFormatNamed(*q.format) : SampleFormat::int24;
+    if (!format)
+        throw UsageError("--format: unknown format '" + q.format->toStdString() + "' (expected int24 or float)");
+    if (q.raw && q.format && *format != SampleFormat::float32)
+        throw UsageError("--raw writes SI units, which only --format float holds");
+    return q.raw ? SampleFormat::float32 : *format;
 }
 
 // --method: the reference or a voice's contact method. The scene's modes and rate were chosen for
@@ -359,12 +344,13 @@ bool showProgress(double fraction)
 }
 
 void printSummary(const jawari::Scene& scene, const jawari::RenderResult& result, const juce::File& wavFile,
-                  const std::optional<juce::File>& energyFile, bool raw, double peak)
+                  const std::optional<juce::File>& energyFile, bool raw, jawari::render::SampleFormat format,
+                  double peak)
 {
     const auto& st = result.stats;
-    std::printf("wrote %s: %zu samples at %d Hz (%s), peak %.6g %s%s\n", wavFile.getFullPathName().toRawUTF8(),
-                result.output.size(), result.outputRateHz, raw ? "32-bit float, SI units" : "24-bit, -1 dBFS peak",
-                peak, jawari::quantityUnit(scene.pickup.quantity),
+    std::printf("wrote %s: %zu samples at %d Hz (%s, %s), peak %.6g %s%s\n", wavFile.getFullPathName().toRawUTF8(),
+                result.output.size(), result.outputRateHz, jawari::render::formatDescription(format),
+                raw ? "SI units" : "-1 dBFS peak", peak, jawari::quantityUnit(scene.pickup.quantity),
                 (" " + std::string(jawari::quantityName(scene.pickup.quantity))).c_str());
     std::printf(
         "%s: %d modes at %.6g Hz (%s path), %lld steps in %.3f s CPU (%.3gx real time), Newton max %d per step, "
@@ -445,14 +431,43 @@ jawari::midi::MidiScore scoreFor(const Request& q)
     }
 }
 
+// The level of what was written, for the summary: the true peak of the samples given to the file,
+// and those at or beyond full scale, clipped (24-bit) or kept (float).
+std::string levelText(const jawari::render::WavOutput& out)
+{
+    const auto& level = out.level();
+    std::string text = "peak " + jawari::render::dbfsText(level.peak);
+    if (level.atOrBeyondFull > 0)
+        text += ", " + std::to_string(level.atOrBeyondFull) + " samples at or beyond full scale "
+                + (out.clipped() ? "clipped" : "kept as given");
+    return text;
+}
+
+// A 24-bit file that clipped: how many samples, by how much, and how to avoid it.
+void warnOfClipping(const jawari::render::Level& level)
+{
+    const std::string peak = jawari::render::dbfsText(level.peak);
+    if (level.peak > 1.0)
+        std::fprintf(stderr,
+                     "warning: the 24-bit file clipped %lld samples at or beyond full scale (left and right counted "
+                     "apart); their peak was %s (%.4g x full scale). To avoid it, lower the sound's Output gain by "
+                     "more than %.2f dB (in a --state file), or write --format float, which keeps every sample\n",
+                     level.atOrBeyondFull, peak.c_str(), level.peak, 20.0 * std::log10(level.peak));
+    else
+        std::fprintf(stderr,
+                     "warning: the 24-bit file holds %lld samples at full scale (left and right counted apart), peak "
+                     "%s: the plugin gave them already limited to +-1, as --format float would show too. To avoid "
+                     "it, lower the sound's Output gain (in a --state file)\n",
+                     level.atOrBeyondFull, peak.c_str());
+}
+
 void printMidiSummary(const jawari::midi::MidiScore& score, const juce::String& sound,
                       const jawari::midi::MidiRenderStats& st, const jawari::midi::MidiRenderSettings& s,
-                      const juce::File& wavFile, double wallSeconds)
+                      const jawari::render::WavOutput& out, const juce::File& wavFile, double wallSeconds)
 {
     const double seconds = static_cast<double>(st.samples) / s.rateHz;
-    std::printf("wrote %s: %lld samples (%.3f s) at %.0f Hz, stereo 24-bit, peak %.1f dBFS\n",
-                wavFile.getFullPathName().toRawUTF8(), st.samples, seconds, s.rateHz,
-                20.0 * std::log10(std::max(st.peak, 1e-12)));
+    std::printf("wrote %s: %lld samples (%.3f s) at %.0f Hz, stereo %s, %s\n", wavFile.getFullPathName().toRawUTF8(),
+                st.samples, seconds, s.rateHz, jawari::render::formatDescription(out.format()), levelText(out).c_str());
     const int events = score.events.getNumEvents();
     if (events == 0)
         std::printf("the drone alone, no MIDI events; %s; latency %d samples removed\n", sound.toRawUTF8(),
@@ -486,6 +501,7 @@ void checkDroneAlone(jawari::plugin::JawariAudioProcessor& processor, const Requ
 int runMidi(const Request& q)
 {
     auto settings = midiSettings(q);
+    const auto format = sampleFormatFor(q);
     const auto score = scoreFor(q);
     const juce::File wavFile = outputFile(*q.output, "-o");
     const juce::ScopedJuceInitialiser_GUI juceRuntime;  // the processor's parameters run a timer
@@ -499,7 +515,7 @@ int runMidi(const Request& q)
     if (bar)
         settings.progress = [](double fraction) { showProgress(fraction); };
 
-    WavOutput out(wavFile, settings.rateHz, 2, 24);
+    jawari::render::WavOutput out(wavFile, settings.rateHz, 2, format);
     const auto start = std::chrono::steady_clock::now();
     const auto stats =
         jawari::midi::renderScore(processor, score, settings, [&out](const float* left, const float* right, int count) {
@@ -515,8 +531,10 @@ int runMidi(const Request& q)
                      "note: the output was still above -100 dBFS %.0f s after the last event (a drone or a "
                      "held note): it stops there; --duration sets the length\n",
                      settings.tailCapSeconds);
+    if (out.clipped())
+        warnOfClipping(out.level());
     if (!q.quiet)
-        printMidiSummary(score, sound, stats, settings, wavFile, wall);
+        printMidiSummary(score, sound, stats, settings, out, wavFile, wall);
     return 0;
 }
 
@@ -531,6 +549,7 @@ int run(int argc, char* argv[])
     if (q.throughPlugin)
         return runMidi(q);
     const jawari::Scene scene = sceneFor(q);
+    const auto format = sampleFormatFor(q);
     const juce::File wavFile = outputFile(*q.output, "-o");
     std::optional<juce::File> energyFile;
     if (q.energyPath)
@@ -549,12 +568,11 @@ int run(int argc, char* argv[])
                      "warning: the initial shape starts inside an obstacle: %.3g J of the %.3g J at t = 0 is contact "
                      "energy, which launches the string (check obstacle heights against the pluck)\n",
                      result.stats.initialContactEnergy, result.stats.initialEnergy);
-    double peak = 0.0;
-    writeWav(wavFile, result.output, result.outputRateHz, q.raw, peak);
+    const double peak = writeWav(wavFile, result.output, result.outputRateHz, q.raw, format);
     if (energyFile)
         writeEnergy(*energyFile, result.energy);
     if (!q.quiet)
-        printSummary(scene, result, wavFile, energyFile, q.raw, peak);
+        printSummary(scene, result, wavFile, energyFile, q.raw, format, peak);
     return 0;
 }
 

@@ -1,10 +1,12 @@
 // jawari-render --midi end to end: MIDI files written here with juce::MidiFile, rendered by the
 // binary, read back with JUCE's WAV reader and measured (the pitch of a held note, an onset after a
 // tempo change, the length, the silence-terminated tail, the samples of the AudioProcessor played
-// in-process); bad files, presets, states and option mixes exit with status 2 and write nothing.
+// in-process, as 24-bit and as float, and the report of a 24-bit file that clips); bad files,
+// presets, states and option mixes exit with status 2 and write nothing.
 
 #include "MidiFileSupport.h"
 #include "PluginProcessor.h"
+#include "Presets.h"
 #include "RendererCliSupport.h"
 #include "TestSupport.h"
 #include "offline/Analysis.h"
@@ -20,6 +22,7 @@
 #include <iterator>
 #include <memory>
 #include <random>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -96,6 +99,71 @@ struct Rendered
     Wav wav;
 };
 
+using Script = std::vector<std::pair<double, juce::MidiMessage>>;  // (seconds, message)
+
+// A script as a type 0 file (at 120 bpm, 960 ticks a second).
+std::string writeScript(const fs::path& path, const Script& script)
+{
+    juce::MidiMessageSequence events;
+    for (auto [seconds, message] : script)
+    {
+        message.setTimeStamp(seconds * 960.0);
+        events.addEvent(message);
+    }
+    return writeMidi(path, {events}, 0);
+}
+
+struct Stereo
+{
+    std::vector<double> left, right;
+};
+
+// The processor's own output for a script, `seconds` long, played in-process as the renderer plays
+// it: prepared at 48 kHz, 512-sample blocks, each event at its sample, the latency removed.
+Stereo renderInProcess(jawari::plugin::JawariAudioProcessor& p, const Script& script, double seconds)
+{
+    const double rate = 48000.0;
+    const int block = 512;
+    p.setNonRealtime(true);
+    p.setPlayConfigDetails(0, 2, rate, block);
+    p.prepareToPlay(rate, block);
+    REQUIRE(p.waitForBuilds());
+    const auto latency = size_t(p.getLatencySamples());
+    const auto total = size_t(std::lround(seconds * rate)) + latency;
+    Stereo out;
+    juce::AudioBuffer<float> buffer(2, block);
+    for (long start = 0; out.left.size() < total; start += block)
+    {
+        juce::MidiBuffer midi;
+        for (const auto& [at, message] : script)
+            if (const long sample = std::lround(at * rate); sample >= start && sample < start + block)
+                midi.addEvent(message, int(sample - start));
+        buffer.clear();
+        p.processBlock(buffer, midi);
+        for (int i = 0; i < block; ++i)
+        {
+            out.left.push_back(buffer.getSample(0, i));
+            out.right.push_back(buffer.getSample(1, i));
+        }
+    }
+    for (auto* channel : {&out.left, &out.right})
+    {
+        channel->erase(channel->begin(), channel->begin() + long(latency));
+        channel->resize(total - latency);
+    }
+    return out;
+}
+
+// The largest difference between a file's samples and the processor's (the lengths must agree).
+double largestDifference(const Wav& w, const Stereo& s)
+{
+    REQUIRE(w.left.size() == s.left.size());
+    double worst = 0.0;
+    for (size_t i = 0; i < w.left.size(); ++i)
+        worst = std::max({worst, std::abs(w.left[i] - s.left[i]), std::abs(w.right[i] - s.right[i])});
+    return worst;
+}
+
 // The held A3 rendered with `options` into `name`.wav.
 Rendered renderHeldA3(const std::string& name, const std::string& options)
 {
@@ -105,6 +173,21 @@ Rendered renderHeldA3(const std::string& name, const std::string& options)
     INFO(o.output);
     REQUIRE(o.status == 0);
     return {o.output, readWav(wav)};
+}
+
+// A 24-bit file against the processor's samples: the largest difference where they lie within full
+// scale, and where they reach it or beyond (against the rail, +-1).
+std::pair<double, double> differencesInsideAndOnRail(const Wav& w, const Stereo& s)
+{
+    REQUIRE(w.left.size() == s.left.size());
+    double inside = 0.0, rail = 0.0;
+    for (size_t i = 0; i < w.left.size(); ++i)
+        for (const auto& [x, y] : {std::pair{s.left[i], w.left[i]}, std::pair{s.right[i], w.right[i]}})
+            if (std::abs(x) >= 1.0)
+                rail = std::max(rail, std::abs(std::clamp(x, -1.0, 1.0) - y));
+            else
+                inside = std::max(inside, std::abs(x - y));
+    return {inside, rail};
 }
 }  // namespace
 
@@ -119,6 +202,8 @@ TEST_CASE("jawari-render --midi plays a held A3 in tune with the Default preset,
     INFO("f0 " << f0 << " Hz, peak " << peakOf(w));
     CHECK(std::abs(f0 / 220.0 - 1.0) < 0.005);
     CHECK(peakOf(w) > 0.05);
+    CHECK(peakOf(w) < 1.0);
+    CHECK_THAT(output, !Catch::Matchers::Contains("full scale") && !Catch::Matchers::Contains("warning"));
 }
 
 TEST_CASE("jawari-render --midi: a note after a tempo change in another track starts at its time (type 1)")
@@ -181,11 +266,11 @@ TEST_CASE("jawari-render --midi ends the file after 0.5 s below -100 dBFS past t
     CHECK(peakOf(d) > 0.05);
 }
 
-TEST_CASE("jawari-render --midi writes the samples the AudioProcessor gives in-process for the same events")
+TEST_CASE("jawari-render --midi writes the samples the AudioProcessor gives in-process, as 24-bit and as float")
 {
     // Bend, sustain over a note-off, a second note, the pedal up and all-notes-off, each at its
     // sample; in-process the events go straight into 512-sample blocks (the renderer's block size).
-    const std::vector<std::pair<double, juce::MidiMessage>> script = {
+    const Script script = {
         {0.0, juce::MidiMessage::noteOn(1, 57, juce::uint8(100))},
         {0.25, juce::MidiMessage::pitchWheel(1, 12000)},
         {0.3, juce::MidiMessage::controllerEvent(1, 64, 127)},
@@ -194,53 +279,98 @@ TEST_CASE("jawari-render --midi writes the samples the AudioProcessor gives in-p
         {0.7, juce::MidiMessage::controllerEvent(1, 64, 0)},
         {0.9, juce::MidiMessage::allNotesOff(1)},
     };
-    juce::MidiMessageSequence events;
-    for (auto [seconds, message] : script)
-    {
-        message.setTimeStamp(seconds * 960.0);
-        events.addEvent(message);
-    }
     const auto dir = scratch();
-    const auto wav = dir / "script.wav";
-    const auto o =
-        render("--midi " + writeMidi(dir / "script.mid", {events}, 0) + " --duration 1.2 -o " + wav.string());
-    INFO(o.output);
-    REQUIRE(o.status == 0);
-    const auto w = readWav(wav);
+    const auto midi = writeScript(dir / "script.mid", script);
+    const auto int24 = dir / "script.wav", ieee = dir / "script-float.wav";
+    const auto a = render("--midi " + midi + " --duration 1.2 -o " + int24.string());
+    const auto b = render("--midi " + midi + " --duration 1.2 --format float -o " + ieee.string());
+    INFO(a.output << "\n" << b.output);
+    REQUIRE(a.status == 0);
+    REQUIRE(b.status == 0);
+    CHECK_THAT(b.output, Catch::Matchers::Contains("stereo 32-bit float, peak -"));
+    const auto w24 = readWav(int24), wf = readWav(ieee);
+    CHECK(w24.bits == 24);
+    CHECK(wf.bits == 32);
 
     jawari::plugin::JawariAudioProcessor p;
-    const double rate = 48000.0;
-    const int block = 512;
-    p.prepareToPlay(rate, block);
-    const int latency = p.getLatencySamples();
-    const auto total = size_t(std::lround(1.2 * rate)) + size_t(latency);
-    std::vector<double> left, right;
-    juce::AudioBuffer<float> buffer(2, block);
-    for (long start = 0; left.size() < total; start += block)
-    {
-        juce::MidiBuffer midi;
-        for (const auto& [seconds, message] : script)
-            if (const long at = std::lround(seconds * rate); at >= start && at < start + block)
-                midi.addEvent(message, int(at - start));
-        buffer.clear();
-        p.processBlock(buffer, midi);
-        for (int i = 0; i < block; ++i)
-        {
-            left.push_back(buffer.getSample(0, i));
-            right.push_back(buffer.getSample(1, i));
-        }
-    }
-    REQUIRE(w.left.size() == total - size_t(latency));
-    double worst = 0.0, peak = 0.0;
-    for (size_t i = 0; i < w.left.size(); ++i)
-    {
-        worst = std::max({worst, std::abs(w.left[i] - left[i + size_t(latency)]),
-                          std::abs(w.right[i] - right[i + size_t(latency)])});
-        peak = std::max(peak, std::abs(left[i + size_t(latency)]));
-    }
-    INFO("latency " << latency << ", peak " << peak << ", largest difference " << worst);
+    const auto played = renderInProcess(p, script, 1.2);
+    double peak = 0.0;
+    for (const double x : played.left)
+        peak = std::max(peak, std::abs(x));
+    const double worst24 = largestDifference(w24, played), worstFloat = largestDifference(wf, played);
+    INFO("peak " << peak << ", largest difference: 24-bit " << worst24 << ", float " << worstFloat);
     CHECK(peak > 0.05);
-    CHECK(worst <= 1.0 / 8388608.0);  // one step of 24 bits
+    CHECK(worst24 <= 1.0 / 8388608.0);  // one step of 24 bits
+    CHECK(worstFloat == 0.0);
+}
+
+TEST_CASE("jawari-render --midi: a 24-bit file that clips says how many samples and the true peak; float keeps "
+          "them")
+{
+    // Eight notes struck together at full velocity, a fourth apart from E2, through the Bass fret
+    // buzz preset at +6 dB of Output gain (saved as the plugin saves a state).
+    const auto dir = scratch();
+    Script chord;
+    for (int note = 40; note < 40 + 8 * 5; note += 5)
+    {
+        chord.push_back({0.0, juce::MidiMessage::noteOn(1, note, juce::uint8(127))});
+        chord.push_back({1.0, juce::MidiMessage::noteOff(1, note)});
+    }
+    const auto midi = writeScript(dir / "fortissimo.mid", chord);
+    const auto state = dir / "bass-6db.jawaripreset";
+    {
+        jawari::plugin::JawariAudioProcessor p;
+        p.setCurrentProgram(jawari::plugin::factoryPresetByShortName("Bass fret buzz"));
+        auto* gain = p.parameters().getParameter(jawari::plugin::ids::gain);
+        gain->setValueNotifyingHost(gain->convertTo0to1(6.0f));
+        REQUIRE(p.state().createXml()->writeTo(juce::File(state.string())));
+    }
+    const std::string options = "--midi " + midi + " --state " + state.string() + " --duration 1.5 ";
+    const auto int24 = dir / "fortissimo.wav", ieee = dir / "fortissimo-float.wav";
+    const auto a = render(options + "-o " + int24.string());
+    const auto b = render(options + "--format float -o " + ieee.string());
+    const auto quiet = render(options + "--quiet -o " + (dir / "fortissimo-quiet.wav").string());
+    INFO(a.output << "\n" << b.output);
+    REQUIRE(a.status == 0);  // a warning, not a failure
+    REQUIRE(b.status == 0);
+    REQUIRE(quiet.status == 0);
+
+    // The processor's samples, exactly, in the float file: those beyond full scale too.
+    jawari::plugin::JawariAudioProcessor p;
+    REQUIRE(p.loadUserPreset(juce::File(state.string())).wasOk());
+    const auto played = renderInProcess(p, chord, 1.5);
+    const auto wf = readWav(ieee), w24 = readWav(int24);
+    CHECK(largestDifference(wf, played) == 0.0);
+    long long over = 0;
+    for (const auto* channel : {&wf.left, &wf.right})
+        over += std::count_if(channel->begin(), channel->end(), [](double x) { return std::abs(x) >= 1.0; });
+    const double peak = peakOf(wf), peakDb = 20.0 * std::log10(peak);
+    INFO(over << " samples at or beyond full scale, peak " << peak);
+    REQUIRE(over > 0);
+
+    // The summary gives that count and that peak; the warning says it again, with the remedy.
+    std::smatch m;
+    const std::regex summary(R"(peak ([-+0-9.]+) dBFS, ([0-9]+) samples at or beyond full scale clipped)");
+    REQUIRE(std::regex_search(a.output, m, summary));
+    CHECK(std::stoll(m[2]) == over);
+    CHECK(std::abs(std::stod(m[1]) - peakDb) <= (peak > 1.0 ? 0.005 : 0.05));
+    const std::string counted = std::to_string(over) + " samples at";
+    CHECK_THAT(a.output, Catch::Matchers::Contains("warning: the 24-bit file") && Catch::Matchers::Contains(counted));
+    CHECK_THAT(a.output, Catch::Matchers::Contains(peak > 1.0 ? "write --format float, which keeps every sample"
+                                                              : "the plugin gave them already limited to +-1"));
+    // --quiet drops the summary, not the warning.
+    CHECK(quiet.output.rfind("warning: the 24-bit file", 0) == 0);
+    CHECK_THAT(quiet.output, !Catch::Matchers::Contains("wrote"));
+    // The float file: the same count, kept, and no warning.
+    const std::string kept = std::to_string(over) + " samples at or beyond full scale kept as given";
+    CHECK_THAT(b.output, Catch::Matchers::Contains(kept));
+    CHECK_THAT(b.output, !Catch::Matchers::Contains("warning"));
+
+    // The 24-bit file: on the rail where the processor reached full scale, within a step elsewhere.
+    const auto [worstInside, worstRail] = differencesInsideAndOnRail(w24, played);
+    INFO("24-bit against the processor: " << worstInside << " within full scale, " << worstRail << " on the rail");
+    CHECK(worstInside <= 1.0 / 8388608.0);
+    CHECK(worstRail <= 1.0 / 8388608.0);
 }
 
 TEST_CASE("jawari-render --midi plays a state file the plugin saved, and factory presets by their short names")
@@ -359,6 +489,7 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         {"--midi " + good + " --method realtime", "--method applies to scene files"},
         {"--midi " + good + " --output-rate 8000", "--output-rate: the plugin runs at 22050 to 192000 Hz"},
         {"--midi " + good + " --duration 0", "--duration"},
+        {"--midi " + good + " --format wav", "--format: unknown format 'wav' (expected int24 or float)"},
         {jawari::test::resource("Scenes/paper-centre.json") + " --preset Default", "--preset applies to renders through the plugin"},
         {jawari::test::resource("Scenes/paper-centre.json") + " --second-core", "--second-core applies to renders through the plugin"},
     };
