@@ -716,6 +716,9 @@ juce::String JawariEditor::statusText() const
         notes.add(problem);
     if (editorNote_.isNotEmpty())
         notes.add(editorNote_);
+    if (snapshot_.limited > 0)
+        notes.add(juce::String(snapshot_.limited)
+                  + " output samples held by the guard (beyond +12 dBFS or not a number): lower the gain");
     if (snapshot_.blowUps > 0)
         notes.add(juce::String(snapshot_.blowUps) + " string blow-ups stopped and restarted by the runaway guard");
     if (const long faults = processor_.renderFaults(); faults > 0)

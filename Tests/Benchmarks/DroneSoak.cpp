@@ -113,6 +113,11 @@ int main(int argc, char* argv[])
     set(jawari::plugin::ids::secondCore, float(secondCore));
     set(jawari::plugin::ids::polarisations, float(polarisations - 1));
     p.prepareToPlay(rate, block);
+    if (!p.waitForBuilds(120000))
+    {
+        std::fprintf(stderr, "jawari-soak: the instrument was not built within two minutes\n");
+        return 1;
+    }
     juce::AudioBuffer<float> buffer(2, block);
     const long blocks = std::lround(minutes * 60.0 * rate / block);
     const double budget = block / rate;
