@@ -1,10 +1,20 @@
 #!/usr/bin/env bash
 # The built plugin in real hosts, repeatably (not run by CI; needs the build, tools/build.sh):
 #   bash tools/validate.sh                               the LV2 checks; pluginval SKIPPED
-#   PLUGINVAL=path/to/pluginval bash tools/validate.sh   and pluginval on the VST3
+#   PLUGINVAL=path/to/pluginval bash tools/validate.sh   and pluginval on the VST3, once per seed
+#   bash tools/validate.sh [options] path/to/pluginval   the same, the path as the argument
+# Options:
+#   --pluginval-only  pluginval alone, without the LV2 checks
+#   --seeds LIST      these seeds (comma-separated, hex 0x... or decimal) instead of the fixed list
+#   --random N        N seeds drawn at random besides the others (their logs name them)
+#   --jobs 1|2        pluginval runs at a time (default 1; each is CPU-heavy)
+#   --lock FILE       holds FILE (flock) during each pluginval run: a shared machine's CPU lock
+#   --logs DIR        the folder of pluginval's logs (default build/validate/pluginval)
 # Checks:
-#   pluginval  strictness 10 on the VST3, its editor tests included, under xvfb-run. Only with a
-#              pluginval given: nothing in this project builds one.
+#   pluginval  strictness 10 on the VST3, its editor tests included, under xvfb-run, once for each
+#              seed: the fixed list in this script, then any --random ones. A line for each seed, PASS or
+#              FAIL with the first failure line of its log, then the tally. Only with a pluginval
+#              given: nothing in this project builds one.
 #   lv2info    lilv finds the LV2 bundle (LV2_PATH: the bundle's folder and /usr/lib/lv2 for the
 #              spec bundles) and describes an instrument with its ports, every parameter of
 #              Source/Parameters.h, 5 presets, the author's mail and homepage.
@@ -12,16 +22,74 @@
 #              for a second with no notes; then jack_midiseq sends A3 (220 Hz) for half a second
 #              every second into its MIDI input, and jack_rec records 3 s of its outputs: the
 #              peak level, and the first note's pitch within 1 % of 220 Hz.
-# Installs what it needs from Debian when missing. One line per check, PASS, FAIL or SKIPPED;
-# exits 1 when a check fails.
+# Installs what it needs from Debian when missing. One line per check (per seed for pluginval),
+# PASS, FAIL or SKIPPED; exits 1 when a check fails, 2 on bad options.
 set -uo pipefail
+
+# Four seeds named in reports of exceptions and stalls reaching pluginval, then 20 drawn once at
+# random in pluginval's own range (1 to 0x7ffffff), fixed so that every run repeats them.
+fixed_seeds=(0x6349302 0x6733ba9 0x22b84563 0x9adbc3
+    0x66a9640 0x35f41db 0x5a37ce 0x2a75831 0x4b1956d 0x7773404 0x699c71 0x1cb73a2 0x544917b 0x77938ad
+    0x5ab9f0f 0x602f8ab 0x2a312cf 0x4177993 0x4799016 0x69eb4ee 0x8bf3ac 0xacc0a4 0x7f13bcf 0x2d11612)
+
+usage() {
+    sed -n '2,/^set -uo/{/^#/s/^# \{0,1\}//p}' "$0"
+}
+
+no_pluginval="no pluginval given: build pluginval against Debian's JUCE and pass its path"
+
+fail_usage() {
+    echo "validate: $1 (bash tools/validate.sh --help)" >&2
+    exit 2
+}
+
+pluginval=${PLUGINVAL:-}
+pluginval_only=0
+seeds=("${fixed_seeds[@]}")
+random_count=0
+jobs=1
+lock=""
+logs=build/validate/pluginval
+while [ $# -gt 0 ]; do
+    case $1 in
+        --pluginval-only) pluginval_only=1; shift; continue ;;
+        -h | --help) usage; exit 0 ;;
+        -*) [ $# -ge 2 ] || fail_usage "$1 wants a value" ;;
+    esac
+    case $1 in
+        --seeds) IFS=', ' read -ra seeds <<< "$2" ;;
+        --random) random_count=$2 ;;
+        --jobs) jobs=$2 ;;
+        --lock) lock=$(realpath -m "$2") ;;
+        --logs) logs=$(realpath -m "$2") ;;
+        -*) fail_usage "unknown option $1" ;;
+        *) pluginval=$1; shift; continue ;;
+    esac
+    shift 2
+done
+[[ $random_count =~ ^[0-9]+$ ]] || fail_usage "--random wants a count"
+[[ $jobs =~ ^[12]$ ]] || fail_usage "--jobs is 1 or 2"
+[ ${#seeds[@]} -gt 0 ] || [ "$random_count" -gt 0 ] || fail_usage "no seeds"
+for seed in "${seeds[@]}"; do
+    [[ $seed =~ ^(0x[0-9a-fA-F]+|[0-9]+)$ ]] || fail_usage "seed $seed is neither hex (0x...) nor decimal"
+done
+for _ in $(seq "$random_count"); do
+    seeds+=("$(($(od -An -tu4 -N4 /dev/urandom) % 0x7ffffff + 1))")
+done
+# pluginval reads lower-case hex only.
+for i in "${!seeds[@]}"; do seeds[i]=$(printf '0x%x' "${seeds[i]}"); done
+[ -z "$pluginval" ] || pluginval=$(realpath -m "$pluginval")
+
 cd "$(dirname "$0")/.."
 release=build/Source/Jawari_artefacts/Release
+vst3=$release/VST3/Jawari.vst3
 uri=https://jawari.org/plugins/jawari
 work=$(mktemp -d)
 started=()  # the processes this script starts, ended on exit
+seed_jobs=()  # the pluginval runs, each in a process group of its own, ended with their children
 cleanup() {
     for pid in "${started[@]}"; do kill "$pid" 2>/dev/null; done
+    for pid in "${seed_jobs[@]}"; do kill -- "-$pid" 2>/dev/null; done
     wait 2>/dev/null
     rm -rf "$work"
 }
@@ -33,20 +101,81 @@ report() {  # check, PASS|FAIL|SKIPPED, detail
     return 0
 }
 
-check_pluginval() {
-    if [ -z "${PLUGINVAL:-}" ]; then
-        report pluginval SKIPPED "no PLUGINVAL=path/to/pluginval given"
-        return
-    fi
-    local log=$work/pluginval.log
-    xvfb-run -a "$PLUGINVAL" --strictness-level 10 --validate-in-process "$release/VST3/Jawari.vst3" > "$log" 2>&1
-    local status=$? groups
+# What failed in a pluginval log: its first failure line (a failed expectation, a timeout, a crash,
+# or an uncaught exception with its message), the test group it came in and the audio settings
+# last announced in that group; and whether JUCE had killed a thread that would not stop.
+first_failure() {
+    awk '
+        /^Starting tests in: / { group = substr($0, 20); sub(/\.\.\.$/, "", group); setting = "" }
+        /^Testing with sample rate/ { setting = $0 }
+        /^!! killing thread by force !!/ { killed = 1 }
+        /^!!! Test|\*\*\* FAILED|^terminate called/ {
+            failure = $0
+            if ($0 ~ /^terminate called/ && (getline next_line) > 0 && next_line ~ /what\(\):/) {
+                gsub(/ +/, " ", next_line)
+                failure = failure ":" next_line
+            }
+            exit
+        }
+        END {
+            if (failure == "") exit 1
+            printf "%s", failure
+            if (group != "") printf " [in %s%s]", group, setting == "" ? "" : ", " setting
+            if (killed) printf " (after \"!! killing thread by force !!\": a thread did not stop in time)"
+        }' "$1"
+}
+
+# Runs pluginval with one seed, its log in $logs/<seed>.log, and prints the seed's line (kept in
+# $logs/summary.txt too). Holds the lock, when given, for the run alone. $2: the first X display
+# number xvfb-run tries, distinct for runs that may overlap.
+run_seed() {
+    local seed=$1 display=$2 log=$logs/$1.log
+    [ -z "$lock" ] || { exec 9> "$lock" && flock 9; }
+    local start=$SECONDS
+    xvfb-run -a -n "$display" "$pluginval" --strictness-level 10 --random-seed "$seed" "$vst3" > "$log" 2>&1 9>&-
+    local status=$? seconds=$((SECONDS - start)) groups failure line
     groups=$(grep -c "^Starting tests in: pluginval" "$log")
     if [ $status -eq 0 ] && grep -qx "SUCCESS" "$log"; then
-        report pluginval PASS "SUCCESS at strictness 10, $groups test groups"
+        line=$(report pluginval PASS "seed $seed: SUCCESS, $groups test groups, $seconds s")
     else
-        cp "$log" build/validate-pluginval.log
-        report pluginval FAIL "exit $status after $groups test groups (log: build/validate-pluginval.log)"
+        failure=$(first_failure "$log") || failure="no failure line; last: $(tail -n 1 "$log")"
+        line=$(report pluginval FAIL "seed $seed: exit $status after $groups test groups, $seconds s: $failure")
+    fi
+    echo "$line" | tee -a "$logs/summary.txt"
+}
+
+check_pluginval() {
+    if [ -z "$pluginval" ]; then
+        report pluginval SKIPPED "$no_pluginval (PLUGINVAL=path or the argument)"
+        return
+    fi
+    if [ ! -x "$pluginval" ]; then
+        report pluginval FAIL "$pluginval is not an executable"
+        return
+    fi
+    mkdir -p "$logs"
+    rm -f "$logs"/0x*.log "$logs/summary.txt"
+    local index=0 seed running=0
+    set -m  # each run in a process group of its own, so that cleanup ends pluginval and Xvfb too
+    for seed in "${seeds[@]}"; do
+        if [ $running -ge "$jobs" ]; then
+            wait -n
+            running=$((running - 1))
+        fi
+        run_seed "$seed" $((100 + index)) &
+        seed_jobs+=($!)
+        running=$((running + 1))
+        index=$((index + 1))
+    done
+    wait "${seed_jobs[@]}"
+    set +m
+    seed_jobs=()
+    local failures
+    failures=$(grep "^pluginval  FAIL" "$logs/summary.txt" | awk '{ sub(":", "", $4); print $4 }' | tr '\n' ' ')
+    if [ -z "$failures" ]; then
+        report pluginval PASS "all ${#seeds[@]} seeds at strictness 10 (logs: $logs)"
+    else
+        report pluginval FAIL "$(wc -w <<< "$failures") of ${#seeds[@]} seeds failed: ${failures% } (logs: $logs)"
     fi
 }
 
@@ -140,11 +269,19 @@ check_jalv() {
     fi
 }
 
-[ -d "$release/LV2/Jawari.lv2" ] || { echo "validate: build first (bash tools/build.sh)" >&2; exit 1; }
-bash tools/deps.sh xvfb lv2-dev lilv-utils jalv jackd2 python3 > /dev/null
-export LV2_PATH="$PWD/$release/LV2:/usr/lib/lv2"
+if [ $pluginval_only -eq 1 ]; then
+    [ -n "$pluginval" ] || { echo "validate: $no_pluginval" >&2; exit 2; }
+    [ -d "$vst3" ] || { echo "validate: build first (bash tools/build.sh)" >&2; exit 1; }
+    bash tools/deps.sh xvfb xauth > /dev/null
+else
+    [ -d "$release/LV2/Jawari.lv2" ] || { echo "validate: build first (bash tools/build.sh)" >&2; exit 1; }
+    bash tools/deps.sh xvfb xauth lv2-dev lilv-utils jalv jackd2 python3 > /dev/null
+    export LV2_PATH="$PWD/$release/LV2:/usr/lib/lv2"
+fi
 echo "validate: $(git rev-parse --short HEAD 2>/dev/null)$(git diff --quiet 2>/dev/null || echo ' (modified)')"
 check_pluginval
-check_lv2info
-check_jalv
+if [ $pluginval_only -eq 0 ]; then
+    check_lv2info
+    check_jalv
+fi
 exit $failed
