@@ -88,11 +88,13 @@ double peakOf(const std::vector<double>& y)
     return m;
 }
 
+// Finite and within the output guard's ceiling (+12 dBFS: extreme gains and obstacles may pass full
+// scale, as a float pipeline carries them).
 bool allFinite(const juce::AudioBuffer<float>& b)
 {
     for (int c = 0; c < b.getNumChannels(); ++c)
         for (int i = 0; i < b.getNumSamples(); ++i)
-            if (!std::isfinite(b.getSample(c, i)) || std::abs(b.getSample(c, i)) > 1.0f)
+            if (!std::isfinite(b.getSample(c, i)) || std::abs(b.getSample(c, i)) > kOutputCeiling)
                 return false;
     return true;
 }
@@ -771,9 +773,13 @@ TEST_CASE("Parameter extremes automated at audio rate for a minute stay finite a
         peak = std::max<double>(peak, buffer.getMagnitude(0, 32));
     }
     INFO("peak " << peak << ", packs installed " << p.packsInstalled() << ", recoveries " << p.instrument().blowUps()
-                 << ", most Newton iterations " << p.instrument().maxIterations());
+                 << ", output samples guarded " << p.instrument().limitedSamples() << ", most Newton iterations "
+                 << p.instrument().maxIterations());
+    // Every extreme at once (+12 dB of gain, the obstacle 1 mm into the string at full stiffness,
+    // velocity 127) drives the output past full scale; the output guard holds it at +12 dBFS.
     CHECK(finite);
-    CHECK(peak <= 1.0);
+    CHECK(peak <= kOutputCeiling);
+    CHECK(p.instrument().blowUps() == 0);
     CHECK(peak > 1e-3);
 }
 
