@@ -210,16 +210,13 @@ TEST_CASE("With a second core the instrument's output is the same bit for bit, o
 
         StringWorker worker;
         worker.start();
-        // On a loaded machine the worker may get no core in time; the test needs it to have
-        // stepped strings, so it plays again (at most three times) until it has.
-        Performance shared;
-        for (int attempt = 0; attempt < 3 && shared.activity.workerStrings < 100; ++attempt)
-        {
-            shared = perform(shape, &worker);
-            CHECK(sameBits(shared.left, alone.left));
-            CHECK(sameBits(shared.right, alone.right));
-        }
-        CHECK(shared.activity.workerStrings >= 100);
+        // How many strings the worker wins on time depends on the machine's load (none when it gets
+        // no core); the output may not. The worker's own path is taken for certain below, held by
+        // the latch.
+        const Performance shared = perform(shape, &worker);
+        INFO("strings the worker stepped on time: " << shared.activity.workerStrings);
+        CHECK(sameBits(shared.left, alone.left));
+        CHECK(sameBits(shared.right, alone.right));
         CHECK(shared.activity.newtonIterations == alone.activity.newtonIterations);
 
         // A worker the system keeps preempting: held in the first string of each job (the hook makes
