@@ -7,6 +7,7 @@
 #include "TestSupport.h"
 #include "physics/Polarisations.h"
 #include "physics/RankOneEigen.h"
+#include "physics/StringDiscretisation.h"
 
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
@@ -255,4 +256,47 @@ TEST_CASE("Diagonal plus rank one in general: clustered poles and weights over e
             CHECK(a.eigenvalues < 1e-13);
             CHECK(a.signs);
         }
+}
+
+TEST_CASE("The coupled string's configuration carries its rows, pickups, excitation and pluck map into the modes "
+          "as the dense products V^T x do",
+          "[polarisations][coupled modes]")
+{
+    const auto s = test::paperString();
+    const int M = 120;
+    auto one = stringSolverConfig(s, {test::pointObstacle(0.006)}, M, 1e6, 0.992, PickupQuantity::displacement);
+    one.excitationPosition = 0.3;
+    SecondPolarisation second;
+    second.detuning = 1e-3;
+    second.excitationAngle = 0.4;
+    second.coupling = instrumentCoupling();
+    auto uncoupled = second;
+    uncoupled.coupling.stiffness = 0.0;
+    const auto plain = twoPolarisationConfig(one, uncoupled);
+    const auto coupled = coupledModesConfig(one, second);
+    const long N = 2 * M;
+    const Eigen::Map<const Eigen::MatrixXd> V(coupled.basis.data(), N, N);
+    // max |moved - V^T original| / max |original| over the vectors of length N laid one after another.
+    auto distance = [&](const std::vector<double>& moved, const std::vector<double>& original) {
+        const long count = long(original.size()) / N;
+        const Eigen::Map<const Eigen::MatrixXd> after(moved.data(), N, count), before(original.data(), N, count);
+        return (after - V.transpose() * before).cwiseAbs().maxCoeff() / before.cwiseAbs().maxCoeff();
+    };
+    CHECK(distance(coupled.config.contactShapes, plain.contactShapes) < 1e-14);
+    CHECK(distance(coupled.config.pickupWeights, plain.pickupWeights) < 1e-14);
+    CHECK(distance(coupled.config.excitationShape, plain.excitationShape) < 1e-14);
+    // The pluck's map, N x M by rows: V^T B.
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const Eigen::Map<const RowMajor> map(coupled.config.shapeToModes.data(), N, M), B(plain.shapeToModes.data(), N, M);
+    CHECK((map - V.transpose() * B).cwiseAbs().maxCoeff() < 1e-14);
+    const auto problem = coupledProblem(M, 1e-3, second.coupling);
+    const auto eigen = rankOneUpdateEigen(problem.d, problem.r, problem.c);
+    for (long k = 0; k < N; ++k)
+    {
+        double sigma = 0.0;
+        for (long p = 0; p < N; ++p)
+            sigma += V(p, k) * V(p, k) * plain.modes.sigma[size_t(p)];
+        CHECK(coupled.config.modes.sigma[size_t(k)] == Approx(sigma).epsilon(1e-12));
+        CHECK(coupled.config.modes.omega[size_t(k)] == std::sqrt(eigen.eigenvalues[size_t(k)]));
+    }
 }
