@@ -1,5 +1,6 @@
 #include "physics/Polarisations.h"
 
+#include "physics/RankOneEigen.h"
 #include "physics/StringModel.h"
 
 #include <Eigen/Dense>
@@ -44,6 +45,32 @@ ModalTable bothTables(const ModalTable& vertical, const SecondPolarisation& seco
         t.sigma.push_back(vertical.sigma[size_t(p)] * second.dampingScale);
     }
     return t;
+}
+
+// The obstacles' rows, the pickups and the excitation into the coupled modes (V^T times each, as
+// one product), and the pluck's map B = [cos(a) I; sin(a) I] (twoPolarisationConfig's) by its
+// structure: (V^T B)_kp = cos(a) V_pk + sin(a) V_(M+p)k.
+void carryIntoModes(ModalSolverConfig& c, const Eigen::Map<const Eigen::MatrixXd>& V, double excitationAngle)
+{
+    const long N = V.rows(), P = long(c.contacts.size()), M = N / 2;
+    std::vector<std::vector<double>*> vectors;
+    for (auto* v : {&c.pickupWeights, &c.secondPickupWeights, &c.excitationShape})
+        if (!v->empty())
+            vectors.push_back(v);
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor rows(P + long(vectors.size()), N);
+    rows.topRows(P) = Eigen::Map<const RowMajor>(c.contactShapes.data(), P, N);
+    for (size_t i = 0; i < vectors.size(); ++i)
+        rows.row(P + long(i)) = Eigen::Map<const Eigen::RowVectorXd>(vectors[i]->data(), N);
+    const RowMajor moved = rows * V;
+    std::copy(moved.data(), moved.data() + P * N, c.contactShapes.begin());
+    for (size_t i = 0; i < vectors.size(); ++i)
+        std::copy(moved.row(P + long(i)).data(), moved.row(P + long(i)).data() + N, vectors[i]->begin());
+    const double along = std::cos(excitationAngle), across = std::sin(excitationAngle);
+    c.shapeToModes.assign(size_t(N) * M, 0.0);
+    for (long j = 0; j < N; ++j)
+        for (long p = 0; p < M; ++p)
+            c.shapeToModes[size_t(j * M + p)] = along * V(p, j) + across * V(M + p, j);
 }
 }  // namespace
 
@@ -106,51 +133,30 @@ CoupledModes coupledModesConfig(const ModalSolverConfig& vertical, const SecondP
     if (k.stiffness > 0.0 && !(k.position > 0.0 && k.position < vertical.lengthMetres))
         throw std::invalid_argument("two polarisations: the coupling must lie on the string");
     auto& c = out.config;
-    const int N = c.modes.size(), M = N / 2;
-    const auto r = overBoth(shapeAt(vertical.lengthMetres, M, k.position), std::cos(k.angle), std::sin(k.angle));
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(N, N);
+    const int N = c.modes.size();
+    // Omega^2 + (K/mu) r r^T: a diagonal and a rank-one update, its eigenpairs in O(N^2).
+    std::vector<double> omega2(static_cast<size_t>(N));
     for (int p = 0; p < N; ++p)
-        A(p, p) = c.modes.omega[size_t(p)] * c.modes.omega[size_t(p)];
-    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), N);
-    if (k.stiffness > 0.0)
-        A.noalias() += (k.stiffness / c.linearDensity) * rv * rv.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(A);
-    if (eigen.info() != Eigen::Success || !(eigen.eigenvalues().minCoeff() > 0.0))
+        omega2[size_t(p)] = c.modes.omega[size_t(p)] * c.modes.omega[size_t(p)];
+    const auto r = overBoth(shapeAt(vertical.lengthMetres, N / 2, k.position), std::cos(k.angle), std::sin(k.angle));
+    auto eigen = rankOneUpdateEigen(omega2, r, k.stiffness > 0.0 ? k.stiffness / c.linearDensity : 0.0);
+    if (!(eigen.eigenvalues.front() > 0.0))
         throw std::runtime_error("two polarisations: the coupled string's modes were not found");
-    const Eigen::MatrixXd& V = eigen.eigenvectors();
-    out.basis.assign(V.data(), V.data() + size_t(N) * N);
+    out.basis = std::move(eigen.eigenvectors);
+    const Eigen::Map<const Eigen::MatrixXd> V(out.basis.data(), N, N);
     ModalTable modes;
-    for (int k2 = 0; k2 < N; ++k2)
+    for (int j = 0; j < N; ++j)
     {
-        const double w = std::sqrt(eigen.eigenvalues()(k2));
+        const double w = std::sqrt(eigen.eigenvalues[size_t(j)]);
         double sigma = 0.0;
         for (int p = 0; p < N; ++p)
-            sigma += V(p, k2) * V(p, k2) * c.modes.sigma[size_t(p)];
+            sigma += V(p, j) * V(p, j) * c.modes.sigma[size_t(p)];
         modes.omega.push_back(w);
         modes.frequencyHz.push_back(w / (2.0 * std::numbers::pi));
         modes.sigma.push_back(sigma);
     }
     c.modes = modes;
-    auto carry = [&](std::vector<double>& v) {
-        if (v.empty())
-            return;
-        const Eigen::VectorXd moved = V.transpose() * Eigen::Map<const Eigen::VectorXd>(v.data(), N);
-        v.assign(moved.data(), moved.data() + N);
-    };
-    for (size_t j = 0; j < c.contacts.size(); ++j)
-    {
-        std::vector<double> row(c.contactShapes.begin() + long(j) * N, c.contactShapes.begin() + long(j + 1) * N);
-        carry(row);
-        std::copy(row.begin(), row.end(), c.contactShapes.begin() + long(j) * N);
-    }
-    carry(c.pickupWeights);
-    carry(c.secondPickupWeights);
-    carry(c.excitationShape);
-    const int m = M;  // the shapes' sine modes: B' = V^T B
-    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> B(
-        c.shapeToModes.data(), N, m);
-    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> moved = V.transpose() * B;
-    c.shapeToModes.assign(moved.data(), moved.data() + size_t(N) * m);
+    carryIntoModes(c, V, second.excitationAngle);
     return out;
 }
 

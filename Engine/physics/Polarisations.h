@@ -46,8 +46,10 @@ ModalSolverConfig twoPolarisationConfig(const ModalSolverConfig& vertical, const
 // modes' own; each mode takes the damping its shape averages, sigma'_k = sum_p V_pk^2 sigma_p, and
 // the damping's cross terms between the new modes are dropped (an approximation with losses, as
 // any modal damping is). The obstacles' rows, the pickups and the excitation are carried into the
-// new modes (V^T times each): a tanpura's one point keeps the solver's two-step pass. OFF (an
-// eigenproblem of size 2M).
+// new modes (V^T times each): a tanpura's one point keeps the solver's two-step pass. The new modes
+// ascend in frequency; each column of V has its largest-magnitude component positive. OFF: Omega^2
+// + (K/mu) r r^T is a diagonal plus a rank-one update, its eigenpairs from the secular equation in
+// O(M^2) (RankOneEigen.h).
 struct CoupledModes
 {
     ModalSolverConfig config;
