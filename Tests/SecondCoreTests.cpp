@@ -101,27 +101,11 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b)
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-// A worker the system preempts in the middle of a task, every time: the worker's task hook waits in
-// each task it claims until the test lets it go.
-struct Latch
+// The worker's task hook: counts the tasks it claims.
+void countTask(void* tasks)
 {
-    std::atomic<bool> held{true};
-    std::atomic<long> tasksHeld{0};
-    static void hold(void* self)
-    {
-        auto& latch = *static_cast<Latch*>(self);
-        ++latch.tasksHeld;
-        while (latch.held.load(std::memory_order_acquire))
-            std::this_thread::yield();
-    }
-    // Lets the worker finish the task it holds, waits until it has, and holds the next.
-    void releaseOnce(StringWorker& worker)
-    {
-        held.store(false, std::memory_order_release);
-        worker.waitForJobs(worker.postedJobs());
-        held.store(true, std::memory_order_release);
-    }
-};
+    ++*static_cast<std::atomic<long>*>(tasks);
+}
 
 double peak(const std::vector<float>& y)
 {
@@ -210,32 +194,52 @@ TEST_CASE("With a second core the instrument's output is the same bit for bit, o
 
         StringWorker worker;
         worker.start();
-        // How many strings the worker wins on time depends on the machine's load (none when it gets
-        // no core); the output may not. The worker's own path is taken for certain below, held by
-        // the latch.
+        // As in a performance: which strings the worker steps depends on the machine's load.
         const Performance shared = perform(shape, &worker);
-        INFO("strings the worker stepped on time: " << shared.activity.workerStrings);
         CHECK(sameBits(shared.left, alone.left));
         CHECK(sameBits(shared.right, alone.right));
         CHECK(shared.activity.newtonIterations == alone.activity.newtonIterations);
 
-        // A worker the system keeps preempting: held in the first string of each job (the hook makes
-        // sure it claims it) until the block is over, so the audio thread revokes that string and
-        // steps the rest of the block alone; released between blocks.
-        Latch latch;
-        worker.setTaskHookForTesting(&Latch::hold, &latch);
-        const uint32_t jobsBefore = worker.postedJobs();
-        const Performance late = perform(shape, &worker, [&] { latch.releaseOnce(worker); });
+        // Each block, the worker claims and finishes every string it is handed (the audio thread waits
+        // for it), after the one before has finished its job: each block but the first (one string
+        // sounds) hands it one job or more.
+        std::atomic<long> claimed{0};
+        worker.setTaskHookForTesting(&countTask, &claimed);
+        worker.setPaceForTesting(StringWorker::Pace::inStep);
+        uint32_t jobsBefore = worker.postedJobs();
+        const Performance inStep = perform(shape, &worker, [&] { worker.waitForJobs(worker.postedJobs()); });
+        const long inStepJobs = long(worker.postedJobs() - jobsBefore);
+        const long inStepClaimed = claimed.exchange(0);
+
+        // A worker the system keeps preempting: it holds the first string of each job until the block
+        // is over, so the audio thread revokes that string and steps the rest of the block alone; the
+        // test lets it finish between blocks.
+        worker.setPaceForTesting(StringWorker::Pace::held);
+        jobsBefore = worker.postedJobs();
+        const Performance late = perform(shape, &worker, [&] {
+            worker.setPaceForTesting(StringWorker::Pace::free);
+            worker.waitForJobs(worker.postedJobs());
+            worker.setPaceForTesting(StringWorker::Pace::held);
+        });
+        worker.setPaceForTesting(StringWorker::Pace::free);
         worker.setTaskHookForTesting(nullptr, nullptr);
-        const long jobs = long(worker.postedJobs() - jobsBefore);
-        INFO("on time: " << shared.activity.workerStrings << " strings by the worker, " << shared.activity.workerRevoked
-                         << " taken back; late: " << jobs << " jobs, " << late.activity.workerRevoked
-                         << " strings taken back, " << late.activity.workerUnstarted << " unstarted");
+        const long lateJobs = long(worker.postedJobs() - jobsBefore);
+        INFO("as in a performance: " << shared.activity.workerStrings << " strings by the worker, "
+                                     << shared.activity.workerRevoked << " taken back; in step: " << inStepJobs
+                                     << " jobs, " << inStep.activity.workerStrings << " strings by the worker; late: "
+                                     << lateJobs << " jobs, " << late.activity.workerRevoked << " strings taken back");
+        CHECK(sameBits(inStep.left, alone.left));
+        CHECK(sameBits(inStep.right, alone.right));
+        CHECK(inStepJobs >= kBlocks - 1);
+        CHECK(inStep.activity.workerStrings >= inStepJobs);
+        CHECK(inStep.activity.workerStrings == inStepClaimed);
+        CHECK(inStep.activity.workerRevoked + inStep.activity.workerUnstarted == 0);
+
         CHECK(sameBits(late.left, alone.left));
         CHECK(sameBits(late.right, alone.right));
-        CHECK(jobs == kBlocks - 1);  // one a block, but the first (one string sounds)
-        CHECK(latch.tasksHeld == jobs);
-        CHECK(late.activity.workerRevoked == jobs);
+        CHECK(lateJobs == kBlocks - 1);  // one a block
+        CHECK(claimed == lateJobs);
+        CHECK(late.activity.workerRevoked == lateJobs);
         CHECK(late.activity.workerStrings == 0);
     }
 }

@@ -64,13 +64,16 @@ void StringWorker::offer(int i, const Task& task)
 {
     tasks_[size_t(i)] = task;
     state_[size_t(i)].store(posted, std::memory_order_release);
-    if (i == 0 && hook_.load(std::memory_order_relaxed) != nullptr)  // tests only: the worker claims it first
-        while (state_[0].load(std::memory_order_acquire) == posted && running())
-            std::this_thread::yield();
+    if (const Pace pace = pace_.load(std::memory_order_relaxed); pace != Pace::free)  // tests only
+        if (pace == Pace::inStep || i == 0)
+            while (state_[size_t(i)].load(std::memory_order_acquire) == posted && running())
+                std::this_thread::yield();
 }
 
 StringWorker::Outcome StringWorker::collect(int i, std::chrono::steady_clock::time_point deadline)
 {
+    if (pace_.load(std::memory_order_relaxed) == Pace::inStep)  // tests only
+        deadline = std::chrono::steady_clock::time_point::max();
     auto& state = state_[size_t(i)];
     int seen = posted;
     if (state.compare_exchange_strong(seen, takenBack, std::memory_order_acq_rel))
@@ -141,8 +144,10 @@ void StringWorker::runJob()
         int expected = posted;
         if (!state.compare_exchange_strong(expected, stepping, std::memory_order_acq_rel))
             continue;
-        if (const TaskHook hook = hook_.load(std::memory_order_acquire))
+        if (const TaskHook hook = hook_.load(std::memory_order_acquire))  // tests only
             hook(hookContext_.load(std::memory_order_relaxed));
+        while (pace_.load(std::memory_order_acquire) == Pace::held && !stopping_.load(std::memory_order_acquire))
+            std::this_thread::yield();
         const Task& task = tasks_[size_t(i)];
         task.voice->processInternal(task.block, samples_, task.second);
         expected = stepping;

@@ -77,11 +77,20 @@ public:
     uint32_t postedJobs() const { return posted_.load(std::memory_order_acquire); }
     void waitForJobs(uint32_t jobs) const;
 
+    // Tests: the worker's pace, whatever the machine's load. inStep: the audio thread waits until the
+    // worker has claimed each task it offers, and when collecting one until the worker has finished
+    // it: every task is the worker's. held: the audio thread waits until the worker has claimed the
+    // job's first task, which the worker then holds, unstepped, until the pace changes: a worker
+    // preempted mid-task, whose task the audio thread revokes. free: as in a performance.
+    enum class Pace
+    {
+        free,
+        inStep,
+        held
+    };
+    void setPaceForTesting(Pace pace) { pace_.store(pace, std::memory_order_release); }
     // Tests: `hook(context)` runs on the worker's thread in each task it claims, before it steps the
-    // string: to mark the thread, or to hold the worker there as a system that preempts it would (a
-    // task collected meanwhile is revoked). While a hook is set, offer() waits until the worker has
-    // claimed the job's first task, so that the worker is in every job whatever the machine's load.
-    // Set while the worker is idle; null unsets it.
+    // string (to mark the thread). Set while the worker is idle; null unsets it.
     using TaskHook = void (*)(void* context);
     void setTaskHookForTesting(TaskHook hook, void* context);
     // How long the worker spins for the next job before it sleeps (it is woken by the next post).
@@ -107,6 +116,7 @@ private:
     std::atomic<uint32_t> finished_{0};  // jobs the worker has finished
     std::atomic<uint32_t> signal_{0};    // changed by each post and by stop(): what a sleeping worker waits on
     std::atomic<bool> running_{false}, stopping_{false};
+    std::atomic<Pace> pace_{Pace::free};
     std::atomic<TaskHook> hook_{nullptr};
     std::atomic<void*> hookContext_{nullptr};
     std::thread thread_;
