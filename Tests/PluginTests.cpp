@@ -513,11 +513,16 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
             setParameter(p, ids::quality, 0.0f);
             p.prepareToPlay(rate, block);
             const auto y = renderNote(p, rate, block, block == 1 ? 0.1 : 0.6, 69);
-            INFO("rate " << rate << " block " << block);
+            INFO("rate " << rate << " block " << block << ": peak " << peakOf(y) << ", samples limited "
+                         << p.instrument().limitedSamples() << ", blow-ups " << p.instrument().blowUps());
+            // Finite and below full scale, the output guard (ceiling 4) untouched: measured peaks 0.182
+            // to 0.185.
             bool finite = true;
             for (double v : y)
                 finite = finite && std::isfinite(v) && std::abs(v) <= 1.0;
             CHECK(finite);
+            CHECK(p.instrument().limitedSamples() == 0);
+            CHECK(p.instrument().blowUps() == 0);
             CHECK(peakOf(y) > 1e-3);
             if (block == 512)
             {
