@@ -478,16 +478,28 @@ TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
         while (running)
         {
             auto* param = params[int(rng() % unsigned(params.size()))];
-            // Quality "paper" would make this test slow; every other value of everything goes.
-            if (auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(param);
-                ranged != nullptr && ranged->getParameterID() == ids::quality)
-                continue;
-            param->setValueNotifyingHost(std::uniform_real_distribution<float>(0.0f, 1.0f)(rng));
+            float value = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
+            // Quality "paper" would make this test slow, the penalty method blows up by design (its
+            // guard mutes it: VoiceTests), and a gain above 0 dB may take loud notes past the output
+            // guard's +12 dBFS (the extremes test below takes it to +12 dB); every other value of
+            // everything goes.
+            if (auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(param); ranged != nullptr)
+            {
+                if (ranged->getParameterID() == ids::quality)
+                    continue;
+                if (ranged->getParameterID() == ids::gain)
+                    value = ranged->convertTo0to1(std::min(ranged->convertFrom0to1(value), 0.0f));
+                if (ranged->getParameterID() == ids::method
+                    && kContactMethods[size_t(std::lround(ranged->convertFrom0to1(value)))].method
+                           == ContactMethod::penalty)
+                    continue;
+            }
+            param->setValueNotifyingHost(value);
             std::this_thread::sleep_for(std::chrono::microseconds(300));
         }
     });
     juce::AudioBuffer<float> buffer(2, 256);
-    bool finite = true;
+    double peak = 0.0;
     // At least 1500 blocks, and on until the builder has installed four packs (a loaded machine, or
     // structures with two polarisations, build more slowly), for at most 20 s.
     const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(20);
@@ -502,12 +514,16 @@ TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
             midi.addEvent(juce::MidiMessage::pitchWheel(1, (b * 977) % 16384), 100);
         buffer.clear();
         p.processBlock(buffer, midi);
-        finite = finite && allFinite(buffer);
+        peak = std::max<double>(peak, buffer.getMagnitude(0, 256));
     }
     running = false;
     fuzzer.join();
-    INFO("packs installed " << p.packsInstalled());
-    CHECK(finite);
+    INFO("peak " << peak << ", packs installed " << p.packsInstalled() << ", samples limited "
+                 << p.instrument().limitedSamples() << ", blow-ups " << p.instrument().blowUps());
+    // Nothing non-finite and nothing beyond +12 dBFS (the guard counts both), no string ran away.
+    // Full scale is not promised here: measured peaks 0.19 to 1.64 over nine runs.
+    CHECK(p.instrument().limitedSamples() == 0);
+    CHECK(p.instrument().blowUps() == 0);
     CHECK(p.packsInstalled() > 3);  // the structure changed under the audio and was rebuilt
 }
 
@@ -522,11 +538,16 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
             setParameter(p, ids::quality, 0.0f);
             prepare(p, rate, block);
             const auto y = renderNote(p, rate, block, block == 1 ? 0.1 : 0.6, 69);
-            INFO("rate " << rate << " block " << block);
+            INFO("rate " << rate << " block " << block << ": peak " << peakOf(y) << ", samples limited "
+                         << p.instrument().limitedSamples() << ", blow-ups " << p.instrument().blowUps());
+            // Finite and below full scale, the output guard (ceiling 4) untouched: measured peaks 0.182
+            // to 0.185.
             bool finite = true;
             for (double v : y)
                 finite = finite && std::isfinite(v) && std::abs(v) <= 1.0;
             CHECK(finite);
+            CHECK(p.instrument().limitedSamples() == 0);
+            CHECK(p.instrument().blowUps() == 0);
             CHECK(peakOf(y) > 1e-3);
             if (block == 512)
             {

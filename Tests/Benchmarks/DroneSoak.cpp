@@ -1,8 +1,10 @@
 // jawari-soak: the tanpura drone rendered offline through the real AudioProcessor for a long time
 // (an hour by default), then a report: non-finite samples, peak level, each block's processing time
 // against its real-time budget (mean, percentiles, the worst) and the slowest blocks with what the
-// instrument did in them, Newton iterations, recoveries. Measures and reports; asserts nothing (exit
-// 1 only if a non-finite sample or a sample beyond full scale came out).
+// instrument did in them, Newton iterations, and what the guards did. Measures and reports; exits 1
+// if either guard acted: the output guard (a non-finite sample, or one beyond +12 dBFS: counted by
+// Instrument::limitedSamples) or the voices' blow-up guard (a string that ran away, restarted from
+// rest: Instrument::blowUps), or if a non-finite sample came out all the same.
 //
 //   jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] [--block 512]
 //               [--polyphony N]   (N held MIDI notes on top of the drone; default 0)
@@ -184,7 +186,8 @@ int main(int argc, char* argv[])
     if (secondCore != 0)
         std::printf("  the second core stepped %ld string chunks; %ld taken back late, %ld not started\n",
                     workerStrings, workerRevoked, workerUnstarted);
-    std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld, peak %.4f (%.1f dBFS)\n",
+    std::printf("  drone plucks %ld, non-finite samples %ld, samples beyond full scale %ld (let through: "
+                "the guard's ceiling is +12 dBFS), peak %.4f (%.1f dBFS)\n",
                 p.instrument().dronePlucks(), nonFinite, beyond, peak, 20.0 * std::log10(std::max(peak, 1e-12)));
     const double mean = total / (blocks * budget);
     std::printf("  worst block %.3f ms = %.1f %% of its %.3f ms budget (in CPU time %.1f %%); mean %.1f %% (%.1fx real "
@@ -207,8 +210,11 @@ int main(int argc, char* argv[])
         std::printf("    %.1f %% at %.3f s: %s; %.2fx the mean block's iterations\n", 100.0 * slow.share,
                     slow.index * budget, jawari::BlockLoad::describe(slow.activity).c_str(),
                     meanIterations > 0.0 ? double(slow.activity.newtonIterations) / meanIterations : 0.0);
-    std::printf("  most Newton iterations in a step %d, recoveries %ld\n", p.instrument().maxIterations(),
-                p.instrument().blowUps());
+    const long limited = p.instrument().limitedSamples(), blowUps = p.instrument().blowUps();
+    std::printf("  most Newton iterations in a step %d\n", p.instrument().maxIterations());
+    std::printf("  guards: the output guard changed %ld samples (non-finite, or beyond +12 dBFS), the blow-up guard "
+                "restarted %ld strings%s\n",
+                limited, blowUps, limited == 0 && blowUps == 0 ? ": neither acted" : "");
     if (!csv.empty())
     {
         // preset, quality, rate, block, polyphony, drone, replay, minutes, mean, CPU p50, p99, p99.9, max, wall max
@@ -231,5 +237,15 @@ int main(int argc, char* argv[])
             return 2;
         }
     }
-    return nonFinite == 0 && beyond == 0 ? 0 : 1;
+    if (limited != 0 || blowUps != 0 || nonFinite != 0)
+    {
+        std::string why = limited != 0 ? "the output guard acted" : "";
+        if (blowUps != 0)
+            why += std::string(why.empty() ? "" : ", ") + "the blow-up guard acted";
+        if (nonFinite != 0)
+            why += std::string(why.empty() ? "" : ", ") + "non-finite output";
+        std::printf("jawari-soak: FAILED (exit 1): %s\n", why.c_str());
+        return 1;
+    }
+    return 0;
 }
