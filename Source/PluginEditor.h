@@ -6,11 +6,12 @@
 // does physically; an on-screen keyboard (also played from the computer keyboard) and a Pluck
 // button along the bottom. Resizable; the standalone app shows the same editor.
 
+#include "ControlPanel.h"
+#include "EditorViews.h"
 #include "PluginProcessor.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <juce_audio_utils/juce_audio_utils.h>
-#include <juce_dsp/juce_dsp.h>
 #include <juce_gui_basics/juce_gui_basics.h>
 
 #include <memory>
@@ -18,96 +19,6 @@
 
 namespace jawari::plugin
 {
-
-class StringView : public juce::Component, public juce::SettableTooltipClient
-{
-public:
-    void setSnapshot(const InstrumentSnapshot& s)
-    {
-        snapshot_ = s;
-        repaint();
-    }
-    void paint(juce::Graphics& g) override;
-
-private:
-    InstrumentSnapshot snapshot_{};
-    float scale_ = 1e-4f;  // metres at full height, follows the motion with a slow release
-};
-
-class SpectrumView : public juce::Component, public juce::SettableTooltipClient
-{
-public:
-    SpectrumView();
-    void update(const float* samples, int count, double sampleRate);
-    void paint(juce::Graphics& g) override;
-
-private:
-    static constexpr int kOrder = 12, kSize = 1 << kOrder;
-    juce::dsp::FFT fft_{kOrder};
-    std::vector<float> window_, work_, levels_;
-    double rate_ = 48000.0;
-};
-
-class DampingCurveEditor : public juce::Component, public juce::SettableTooltipClient
-{
-public:
-    explicit DampingCurveEditor(JawariAudioProcessor& p)
-        : processor_(p)
-    {}
-    void paint(juce::Graphics& g) override;
-    void mouseDown(const juce::MouseEvent& e) override;
-    void mouseDrag(const juce::MouseEvent& e) override;
-    void mouseDoubleClick(const juce::MouseEvent& e) override;
-
-private:
-    juce::Point<float> pointPosition(int i) const;
-    int nearest(juce::Point<float> p) const;
-    JawariAudioProcessor& processor_;
-    int dragging_ = -1;
-};
-
-// One parameter's control: a rotary slider, a combo box for a choice or a toggle for an on/off,
-// its title above, attached to the parameter; the control's component ID is the parameter's ID.
-class ParameterControl : public juce::Component
-{
-public:
-    ParameterControl(juce::AudioProcessorValueTreeState& state, const char* id, const char* title, const char* tooltip);
-    void resized() override;
-    // Rereads the value text, which may depend on other parameters (positions on the string's
-    // length, stiffness in the exponent's unit).
-    void refreshText();
-    // How many cells of a panel's row it takes: a choice's names need more room than a knob.
-    float width() const { return box_ != nullptr ? 1.5f : 1.0f; }
-
-private:
-    using Attachments = juce::AudioProcessorValueTreeState;
-    juce::Label title_;
-    std::unique_ptr<juce::Slider> slider_;
-    std::unique_ptr<juce::ComboBox> box_;
-    std::unique_ptr<juce::ToggleButton> toggle_;
-    std::unique_ptr<Attachments::SliderAttachment> sliderAttachment_;
-    std::unique_ptr<Attachments::ComboBoxAttachment> boxAttachment_;
-    std::unique_ptr<Attachments::ButtonAttachment> toggleAttachment_;
-};
-
-// A titled group of controls laid out in a row of equal cells.
-class ControlPanel : public juce::Component
-{
-public:
-    explicit ControlPanel(const juce::String& title)
-        : title_(title)
-    {}
-    void add(std::unique_ptr<ParameterControl> control);
-    // The controls' widths in cells, added up.
-    float cells() const;
-    void refreshTexts();
-    void paint(juce::Graphics& g) override;
-    void resized() override;
-
-private:
-    juce::String title_;
-    std::vector<std::unique_ptr<ParameterControl>> controls_;
-};
 
 // The on-screen keyboard, with a tooltip.
 class Keyboard : public juce::MidiKeyboardComponent, public juce::SettableTooltipClient

@@ -111,6 +111,8 @@ private:
     void collectRetired();  // CT: frees the pack the audio thread retired, once no worker task can use it
     void syncWorker();      // CT: the second core's thread running exactly when its parameter is on
     void renderBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi);  // RT
+    bool installOfferedPack();                                                    // RT
+    void keepRecentOutput(const float* samples, int count);                       // RT
     void handleMidi(const juce::MidiMessage& m, const MidiSettings& settings);  // RT
     InstrumentControls controls() const;  // the parameters and the keyboard's pitches, as the engine takes them. RT
 

@@ -153,7 +153,7 @@ void Instrument::settleControls()
 }
 
 // The controls' targets reached over a chunk: the obstacle (its height, stiffness geometrically,
-// exponent) and the gain through a 20 ms one-pole (k20 its step over the chunk; 1 reaches them),
+// exponent), the bend range and the gain through a 20 ms one-pole (k20 its step over the chunk; 1 reaches them),
 // the damping at once (then every string is retuned); a non-finite target keeps the current or
 // default value.
 void Instrument::smoothControls(double k20)
@@ -188,8 +188,12 @@ void Instrument::smoothControls(double k20)
         current_.tuningA4Hz = std::clamp(finiteOr(target_.tuningA4Hz, defaults.tuningA4Hz), 200.0, 1000.0);
         dampingDirty_ = true;
     }
+    // The bend range glides too: a range switched at once would jump every bent string's pitch, and
+    // pitch jumps repeated at audio rate pump energy into a string (each retune keeps its motion).
+    const double rangeTarget = std::clamp(finiteOr(target_.bendRangeSemitones, defaults.bendRangeSemitones), 0.0, 24.0);
+    const double range = current_.bendRangeSemitones;
     current_.bendRangeSemitones =
-        std::clamp(finiteOr(target_.bendRangeSemitones, defaults.bendRangeSemitones), 0.0, 24.0);
+        std::abs(rangeTarget - range) < 1e-6 || k20 >= 1.0 ? rangeTarget : range + k20 * (rangeTarget - range);
     current_.gainDb = std::clamp(finiteOr(target_.gainDb, defaults.gainDb), -120.0, 24.0);
     current_.stereoWidth = std::clamp(finiteOr(target_.stereoWidth, defaults.stereoWidth), 0.0, 1.0);
     current_.drone = target_.drone;
