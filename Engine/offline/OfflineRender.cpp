@@ -209,6 +209,93 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     return out;
 }
 
+namespace
+{
+// The reference's pickup samples resampled to the output rate. The string was held in its initial
+// shape before t = 0: the resampler sees the signal minus its first sample (so no step at t = 0, as
+// if the held value had always been there), and that sample is added back to the output (the filter
+// passes a constant unchanged).
+class HeldStartResampler
+{
+public:
+    HeldStartResampler(double inputRateHz, double outputRateHz, std::vector<double>& output)
+        : resampler_(inputRateHz, outputRateHz)
+        , output_(output)
+    {
+        chunk_.reserve(kChunk);
+    }
+
+    void push(double v)
+    {
+        if (!held_)
+            held_ = v;
+        chunk_.push_back(v - *held_);
+        if (chunk_.size() == kChunk)
+        {
+            resampler_.push(chunk_.data(), chunk_.size(), output_);
+            chunk_.clear();
+        }
+    }
+
+    void finish()
+    {
+        resampler_.push(chunk_.data(), chunk_.size(), output_);
+        resampler_.finish(output_);
+        for (double& v : output_)
+            v += held_.value_or(0.0);
+    }
+
+private:
+    static constexpr size_t kChunk = 4096;
+    Resampler resampler_;
+    std::vector<double>& output_;
+    std::vector<double> chunk_;
+    std::optional<double> held_;
+};
+
+// The energy log: H^{n+1/2} after the step that produced internal sample n = round(m rate / outRate),
+// one row per output sample m, with the Newton iterations since the previous row.
+class EnergyLog
+{
+public:
+    EnergyLog(ModalSolver& solver, double rateHz, int outputRateHz, size_t rows, std::vector<EnergySample>& log)
+        : solver_(solver)
+        , rateHz_(rateHz)
+        , outputRateHz_(outputRateHz)
+        , rows_(rows)
+        , log_(log)
+    {
+        log_.reserve(rows);
+    }
+
+    void afterStep(long long n, int iterations)
+    {
+        iterationsSince_ += iterations;
+        iterationsMaxSince_ = std::max(iterationsMaxSince_, iterations);
+        if (static_cast<size_t>(nextLogged_) >= rows_)
+            return;
+        const long long target = std::llround(double(nextLogged_) * rateHz_ / outputRateHz_);
+        if (n < target)
+            return;
+        const auto H = solver_.energy();
+        log_.push_back({(double(n) + 0.5) / rateHz_, H.total, H.contact, iterationsSince_, iterationsMaxSince_});
+        iterationsSince_ = 0;
+        iterationsMaxSince_ = 0;
+        ++nextLogged_;
+    }
+
+private:
+    ModalSolver& solver_;
+    double rateHz_;
+    int outputRateHz_;
+    size_t rows_;
+    std::vector<EnergySample>& log_;
+    long nextLogged_ = 0;
+    long iterationsSince_ = 0;
+    int iterationsMaxSince_ = 0;
+};
+}  // namespace
+
 RenderResult renderScene(const Scene& scene, const RenderOptions& options)
 {
     validateScene(scene);
@@ -220,61 +307,23 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
 
     RenderResult result;
     result.outputRateHz = scene.simulation.outputRateHz;
-    auto& stats = result.stats;
-    describe(solver, setup.rateHz, stats);
-
+    describe(solver, setup.rateHz, result.stats);
     const double duration = scene.simulation.durationSeconds;
     const long long steps = std::llround(duration * setup.rateHz);
     const size_t outputCount = static_cast<size_t>(std::llround(duration * result.outputRateHz));
     result.output.reserve(outputCount + 16);
 
-    // The string was held in its initial shape before t = 0: the resampler sees the signal minus
-    // its first sample (so no step at t = 0, as if the held value had always been there), and that
-    // sample is added back to the output (the filter passes a constant unchanged).
-    Resampler resampler(setup.rateHz, result.outputRateHz);
-    std::vector<double> chunk;
-    chunk.reserve(4096);
-    std::optional<double> held;
-    auto sink = [&](double v) {
-        if (!held)
-            held = v;
-        chunk.push_back(v - *held);
-        if (chunk.size() == 4096)
-        {
-            resampler.push(chunk.data(), chunk.size(), result.output);
-            chunk.clear();
-        }
-    };
-
-    // Energy log: H^{n+1/2} after the step that produced internal sample n = round(m rate / outRate).
-    long nextLogged = 0;
-    long iterationsSince = 0;
-    int iterationsMaxSince = 0;
-    auto afterStep = [&](long long n, int iterations) {
-        if (!options.logEnergy)
-            return;
-        iterationsSince += iterations;
-        iterationsMaxSince = std::max(iterationsMaxSince, iterations);
-        if (static_cast<size_t>(nextLogged) >= outputCount)
-            return;
-        const long long target = std::llround(double(nextLogged) * setup.rateHz / result.outputRateHz);
-        if (n < target)
-            return;
-        const auto H = solver.energy();
-        result.energy.push_back(
-            {(double(n) + 0.5) / setup.rateHz, H.total, H.contact, iterationsSince, iterationsMaxSince});
-        iterationsSince = 0;
-        iterationsMaxSince = 0;
-        ++nextLogged;
-    };
+    HeldStartResampler output(setup.rateHz, result.outputRateHz, result.output);
+    std::optional<EnergyLog> log;
     if (options.logEnergy)
-        result.energy.reserve(outputCount);
-
-    run(solver, scene.pickup.quantity, steps, stats, options, sink, afterStep);
-    resampler.push(chunk.data(), chunk.size(), result.output);
-    resampler.finish(result.output);
-    for (double& v : result.output)
-        v += held.value_or(0.0);
+        log.emplace(solver, setup.rateHz, result.outputRateHz, outputCount, result.energy);
+    run(
+        solver, scene.pickup.quantity, steps, result.stats, options, [&](double v) { output.push(v); },
+        [&](long long n, int iterations) {
+            if (log)
+                log->afterStep(n, iterations);
+        });
+    output.finish();
     result.output.resize(outputCount, 0.0);
     for (double v : result.output)
         if (!std::isfinite(v))

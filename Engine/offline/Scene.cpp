@@ -443,6 +443,73 @@ void validateScene(const Scene& scene)
     }
 }
 
+namespace
+{
+void readObstacles(const json& obs, Scene& scene)
+{
+    if (!obs.is_array())
+        throw SceneError("obstacles", "must be an array, got " + typeName(obs));
+    std::vector<bool> threaded;
+    for (size_t i = 0; i < obs.size(); ++i)
+    {
+        const std::string path = "obstacles[" + std::to_string(i) + "]";
+        const bool thread = obs[i].is_object() && obs[i].contains("type") && obs[i]["type"] == "thread";
+        scene.obstacles.push_back(thread ? readThread(obs[i], path, scene.obstacles, threaded)
+                                         : readObstacle(obs[i], path, scene.string.lengthMetres));
+        threaded.push_back(false);
+    }
+}
+
+void readExcitation(const json& value, Excitation& excitation)
+{
+    ObjectReader r(value, "excitation");
+    r.string("type", "pluck", {"pluck"});
+    excitation.position = r.number("position", excitation.position);
+    excitation.amplitude = r.number("amplitude", excitation.amplitude);
+    excitation.angle = r.number("angle", excitation.angle);
+    r.rejectUnknown();
+}
+
+void readPickup(const json& value, Pickup& pickup)
+{
+    ObjectReader r(value, "pickup");
+    pickup.position = r.number("position", pickup.position);
+    const auto q = r.string("quantity", "displacement", {"displacement", "velocity", "force"});
+    pickup.quantity = q == "velocity" ? PickupQuantity::velocity
+                      : q == "force"  ? PickupQuantity::force
+                                      : PickupQuantity::displacement;
+    r.rejectUnknown();
+}
+
+void readSimulation(const json& value, Simulation& simulation)
+{
+    ObjectReader r(value, "simulation");
+    std::vector<const char*> methods{"reference"};
+    for (const auto& m : kContactMethods)
+        methods.push_back(m.sceneName);
+    setMethodByName(simulation, r.string("method", "reference", methods));
+    if (r.has("rate"))
+        simulation.rateHz = r.positive("rate", 0.0);
+    if (const auto m = r.integer("modes"))
+    {
+        if (*m < 1 || *m > kMaxModes)
+            throw SceneError(r.at("modes"), "must be between 1 and " + std::to_string(kMaxModes) + " (got "
+                                                + std::to_string(*m) + ")");
+        simulation.modes = static_cast<int>(*m);
+    }
+    simulation.durationSeconds = r.positive("duration", simulation.durationSeconds);
+    simulation.residualCompliance = r.boolean("residual_compliance", simulation.residualCompliance);
+    simulation.staticPickup = r.boolean("static_pickup", simulation.staticPickup);
+    if (const auto o = r.integer("output_rate"))
+    {
+        if (*o < 8000 || *o > 384000)
+            throw SceneError(r.at("output_rate"), "must be between 8000 and 384000 Hz (got " + std::to_string(*o) + ")");
+        simulation.outputRateHz = static_cast<int>(*o);
+    }
+    r.rejectUnknown();
+}
+}  // namespace
+
 Scene parseScene(const std::string& jsonText)
 {
     json root;
@@ -462,70 +529,14 @@ Scene parseScene(const std::string& jsonText)
     Scene scene;
     if (top.has("string"))
         readString(top.raw("string"), scene);
-    const double L = scene.string.lengthMetres;
-
     if (top.has("obstacles"))
-    {
-        const json& obs = top.raw("obstacles");
-        if (!obs.is_array())
-            throw SceneError("obstacles", "must be an array, got " + typeName(obs));
-        std::vector<bool> threaded;
-        for (size_t i = 0; i < obs.size(); ++i)
-        {
-            const std::string path = "obstacles[" + std::to_string(i) + "]";
-            const bool thread = obs[i].is_object() && obs[i].contains("type") && obs[i]["type"] == "thread";
-            scene.obstacles.push_back(thread ? readThread(obs[i], path, scene.obstacles, threaded)
-                                             : readObstacle(obs[i], path, L));
-            threaded.push_back(false);
-        }
-    }
+        readObstacles(top.raw("obstacles"), scene);
     if (top.has("excitation"))
-    {
-        ObjectReader r(top.raw("excitation"), "excitation");
-        r.string("type", "pluck", {"pluck"});
-        scene.excitation.position = r.number("position", scene.excitation.position);
-        scene.excitation.amplitude = r.number("amplitude", scene.excitation.amplitude);
-        scene.excitation.angle = r.number("angle", scene.excitation.angle);
-        r.rejectUnknown();
-    }
+        readExcitation(top.raw("excitation"), scene.excitation);
     if (top.has("pickup"))
-    {
-        ObjectReader r(top.raw("pickup"), "pickup");
-        scene.pickup.position = r.number("position", scene.pickup.position);
-        const auto q = r.string("quantity", "displacement", {"displacement", "velocity", "force"});
-        scene.pickup.quantity = q == "velocity" ? PickupQuantity::velocity
-                                : q == "force"  ? PickupQuantity::force
-                                                : PickupQuantity::displacement;
-        r.rejectUnknown();
-    }
+        readPickup(top.raw("pickup"), scene.pickup);
     if (top.has("simulation"))
-    {
-        ObjectReader r(top.raw("simulation"), "simulation");
-        std::vector<const char*> methods{"reference"};
-        for (const auto& m : kContactMethods)
-            methods.push_back(m.sceneName);
-        setMethodByName(scene.simulation, r.string("method", "reference", methods));
-        if (r.has("rate"))
-            scene.simulation.rateHz = r.positive("rate", 0.0);
-        if (const auto m = r.integer("modes"))
-        {
-            if (*m < 1 || *m > kMaxModes)
-                throw SceneError(r.at("modes"), "must be between 1 and " + std::to_string(kMaxModes) + " (got "
-                                                    + std::to_string(*m) + ")");
-            scene.simulation.modes = static_cast<int>(*m);
-        }
-        scene.simulation.durationSeconds = r.positive("duration", scene.simulation.durationSeconds);
-        scene.simulation.residualCompliance = r.boolean("residual_compliance", scene.simulation.residualCompliance);
-        scene.simulation.staticPickup = r.boolean("static_pickup", scene.simulation.staticPickup);
-        if (const auto o = r.integer("output_rate"))
-        {
-            if (*o < 8000 || *o > 384000)
-                throw SceneError(r.at("output_rate"),
-                                 "must be between 8000 and 384000 Hz (got " + std::to_string(*o) + ")");
-            scene.simulation.outputRateHz = static_cast<int>(*o);
-        }
-        r.rejectUnknown();
-    }
+        readSimulation(top.raw("simulation"), scene.simulation);
     if (top.has("second_polarisation"))
         scene.secondPolarisation = readSecondPolarisation(top.raw("second_polarisation"));
     if (scene.secondPolarisation)

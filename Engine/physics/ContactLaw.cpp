@@ -243,6 +243,45 @@ ContactStep contactStep(const Divided& v, double c, double s, double r, double b
     return out;
 }
 
+// The iterations on phi from r in [b, s) to the root: each step contactStep's, kept inside the
+// bracket (a step past p = d stops at b, right of the root; one to p <= 0 halves p instead). Leaves v
+// at the root (D from its Taylor series after a last small Halley step) and returns the root r.
+double iterateToRoot(const DividedSeries& series, double alpha, double s, double invS, double sAlpha, double b,
+                     double c, double r, KnownPower& anchor, Divided& v, int& iterations)
+{
+    constexpr int maxIterations = 100;
+    v = divided(series, alpha, s, invS, sAlpha, r, anchor);
+    for (int it = 1; it <= maxIterations; ++it)
+    {
+        iterations = it;
+        const double p = s - r;
+        const ContactStep st = contactStep(v, c, s, r, b);
+        double next = r - st.step;
+        bool clamped = false;
+        if (!(next >= b))
+        {
+            next = b;  // p <= d, which is right of the root
+            clamped = true;
+        }
+        else if (!(next < s))
+        {
+            next = 0.5 * (r + s);  // the root has p > 0: halve p towards it
+            clamped = true;
+        }
+        const double moved = next - r;
+        r = next;
+        if (!st.far && !clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + st.force))
+        {
+            // A Halley step this small: r is the root to ~1e-18 of its scale (cubic convergence). D at it from its
+            // Taylor series to the same order, without another evaluation.
+            v.D -= moved * (v.dD - 0.5 * moved * v.d2D);
+            break;
+        }
+        v = divided(series, alpha, s, invS, sAlpha, r, anchor);
+    }
+    return r;
+}
+
 }  // namespace
 
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
@@ -281,37 +320,9 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
     double r = std::max(s - contactStart(*series, alpha, s, b, c, sAlpha), b);
     const double invS = s > 0.0 ? 1.0 / s : 0.0;
 
-    constexpr int maxIterations = 100;
     KnownPower anchor;
-    Divided v = divided(*series, alpha, s, invS, sAlpha, r, anchor);
-    for (int it = 1; it <= maxIterations; ++it)
-    {
-        sol.iterations = it;
-        const double p = s - r;
-        const ContactStep st = contactStep(v, c, s, r, b);
-        double next = r - st.step;
-        bool clamped = false;
-        if (!(next >= b))
-        {
-            next = b;  // p <= d, which is right of the root
-            clamped = true;
-        }
-        else if (!(next < s))
-        {
-            next = 0.5 * (r + s);  // the root has p > 0: halve p towards it
-            clamped = true;
-        }
-        const double moved = next - r;
-        r = next;
-        if (!st.far && !clamped && std::abs(moved) <= 1e-6 * std::min(p, std::abs(r) + std::abs(b) + st.force))
-        {
-            // A Halley step this small: r is the root to ~1e-18 of its scale (cubic convergence). D at it from its
-            // Taylor series to the same order, without another evaluation.
-            v.D -= moved * (v.dD - 0.5 * moved * v.d2D);
-            break;
-        }
-        v = divided(*series, alpha, s, invS, sAlpha, r, anchor);
-    }
+    Divided v;
+    r = iterateToRoot(*series, alpha, s, invS, sAlpha, b, c, r, anchor, v, sol.iterations);
     sol.r = r;
     sol.slope = -K / beta * v.D;
     const double p = s - r;

@@ -100,6 +100,29 @@ double ContactSpline::q(double s, double b, double k, double psiS, int knot) con
     return r * r - b * r + k * (psi_[size_t(knot)] - psiS);
 }
 
+// In contact at n+1: the root's penetration p is in (0, d], d = s - b, where h(p) = r + k G(r) - b
+// (r = s - p) falls through zero. Bisection over the knots below d gives the knots [lo, hi] around
+// it; each step is counted in iterations.
+std::pair<int, int> ContactSpline::rootInterval(double s, double b, double k, double psiS, int& iterations) const
+{
+    const double d = s - b;
+    int lo = 0;
+    int hi = std::min(knotCount(), interval(d) + 1);
+    auto positive = [&](int knot) {
+        const double r = s - eta_[size_t(knot)];
+        if (r == 0.0)
+            return -k * force(s) - b > 0.0;
+        return (q(s, b, k, psiS, knot) > 0.0) == (r > 0.0);
+    };
+    while (hi - lo > 1)
+    {
+        const int mid = (lo + hi) / 2;
+        ++iterations;
+        (positive(mid) ? lo : hi) = mid;
+    }
+    return {lo, hi};
+}
+
 ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
 {
     ScalarContactSolution sol;
@@ -117,24 +140,8 @@ ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
         sol.slope = -psiS / sol.r;
         return sol;
     }
-    // In contact at n+1: the root's penetration p is in (0, d], d = s - b, where
-    // h(p) = r + k G(r) - b (r = s - p) falls through zero. Bisection over the knots below d.
-    const double d = s - b;
     const int n = knotCount();
-    int lo = 0;
-    int hi = std::min(n, interval(d) + 1);
-    auto positive = [&](int knot) {
-        const double r = s - eta_[size_t(knot)];
-        if (r == 0.0)
-            return -k * force(s) - b > 0.0;
-        return (q(s, b, k, psiS, knot) > 0.0) == (r > 0.0);
-    };
-    while (hi - lo > 1)
-    {
-        const int mid = (lo + hi) / 2;
-        ++sol.iterations;
-        (positive(mid) ? lo : hi) = mid;
-    }
+    const auto [lo, hi] = rootInterval(s, b, k, psiS, sol.iterations);
     // On interval lo the potential is psi_j + x (f_j + m x / 2), x = p - eta_j = c0 - r with
     // c0 = s - eta_j: Q(r) = a r^2 - B r + C.
     const auto j = size_t(lo);

@@ -20,6 +20,7 @@
 #include "physics/ContactLaw.h"
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace jawari
@@ -53,6 +54,7 @@ private:
     int interval(double penetration) const;  // i with eta_i <= penetration < eta_{i+1} (the last extends)
     // Q(r) = r (r + k G(r) - b) at the knot's penetration (p = s - r = eta_knot), given psi(s).
     double q(double s, double b, double k, double psiS, int knot) const;
+    std::pair<int, int> rootInterval(double s, double b, double k, double psiS, int& iterations) const;
 
     ContactLaw law_;
     std::vector<double> eta_;    // knots
