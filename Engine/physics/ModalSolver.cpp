@@ -26,22 +26,19 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     if (!(dt_ > 0.0) || !(mu_ > 0.0) || !(config.lengthMetres > 0.0))
         throw std::invalid_argument("the modal solver needs a positive time step, density and length");
     buildModeTables(config);
-    for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_, &pickupPhiWB_, &penetration_,
-                    &pointForce_})
+    for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &penetration_, &pointForce_})
         v->assign(P_, 0.0);
     if (config.transform && P_ > 0)
         transform_ = config.transform(contacts_, lengthMetres_, M_);
     buildContactShapes(config);
     markCoupledModes(config);
+    for (auto& pickup : pickups_)
+        pickup.readForces(pickupForces());
     prepareContactMethods(config, stringResponse());
-    live_.assign(P_, 1);
-    liveRows_.resize(P_);
     pressing_.reserve(P_);
-    reach_.assign(P_, std::numeric_limits<double>::infinity());
-    kappa_.edit().assign(M_, 0.0);
-    leaveOutOfReach_ = config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving && P_ >= 2
-                       && !system_.isDiagonal();
-    computeReach();
+    reach_.prepare(P_, M_, config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving
+                               && P_ >= 2 && !system_.isDiagonal());
+    measureReach();
     if (transform_)
     {
         shapes_.edit() = std::vector<double>();  // the transform reaches the points: no table kept
@@ -63,76 +60,23 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
         coeffs[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
         coeffsReleased[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
     }
-    basePickupWeights_ = config.pickupWeights;
-    basePickupWeights_.edit().resize(M_, 0.0);
-    basePickupWeightsB_ = config.secondPickupWeights;
-    if (!basePickupWeightsB_.empty())
-        basePickupWeightsB_.edit().resize(M_, 0.0);
     if (config.pickupBandHz < 0.0 || !std::isfinite(config.pickupBandHz))
         throw std::invalid_argument("the pickup band must be a frequency >= 0 Hz");
-    pickupBandOmega_ = 2.0 * std::numbers::pi * config.pickupBandHz;
-    pickupWeights_.edit().resize(M_);
-    pickupWeightsB_.edit().resize(basePickupWeightsB_.size());
-    if (pickupBandOmega_ > 0.0)
-    {
-        staticWeights_.edit().resize(M_);
-        staticWeightsB_.edit().resize(basePickupWeightsB_.size());
-    }
-    setPickupWeights();
+    const double bandOmega = 2.0 * std::numbers::pi * config.pickupBandHz;
+    std::vector<double> first = config.pickupWeights;
+    first.resize(M_, 0.0);  // the first pickup is always there (its weights may all be 0)
+    pickups_[0].configure(first, M_, bandOmega, P_);
+    pickups_[1].configure(config.secondPickupWeights, M_, bandOmega, P_);
+    for (auto& pickup : pickups_)
+        pickup.setWeights(omega_, 1.0);
 }
 
-// The share of mode p the pickups read as it moves: 1 up to the band, 0 from 1.25 times it, and
-// linear in the frequency between, so a pitch bend carries a mode across without a step.
-double ModalSolver::movingShare(int p) const
+PickupReadout::Forces ModalSolver::pickupForces() const
 {
-    if (pickupBandOmega_ == 0.0)
-        return 1.0;
-    return std::clamp((1.25 * pickupBandOmega_ - omega_[p]) / (0.25 * pickupBandOmega_), 0.0, 1.0);
+    return {shapes_, excitationShape_, contacts_, forceScale_, coeffs_};
 }
 
-void ModalSolver::setPickupWeights()
-{
-    auto& weights = pickupWeights_.edit();
-    auto& weightsB = pickupWeightsB_.edit();
-    auto& staticWeights = staticWeights_.edit();
-    auto& staticWeightsB = staticWeightsB_.edit();
-    for (int p = 0; p < M_; ++p)
-    {
-        const double moving = movingShare(p);
-        const double kept = pickupScale_ * moving;
-        weights[p] = kept * basePickupWeights_[p];
-        if (!weightsB.empty())
-            weightsB[p] = kept * basePickupWeightsB_[p];
-        if (!staticWeights.empty())
-        {
-            staticWeights[p] = (1.0 - moving) * pickupScale_ * basePickupWeights_[p];
-            if (!staticWeightsB.empty())
-                staticWeightsB[p] = (1.0 - moving) * pickupScale_ * basePickupWeightsB_[p];
-        }
-    }
-}
-
-double ModalSolver::staticPickup(bool second, const double* shape) const
-{
-    const auto& w = second ? staticWeightsB_ : staticWeights_;
-    double sum = 0.0;
-    for (size_t p = 0; p < w.size(); ++p)
-        if (w[p] != 0.0)
-            sum += w[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
-    return sum;
-}
-
-double ModalSolver::pickupAboveBand(bool second) const
-{
-    const auto& w = second ? staticWeightsB_ : staticWeights_;
-    double sum = 0.0;
-    for (int p = 0; p < static_cast<int>(w.size()); ++p)
-        if (const int i = state_.indexOfMode(p); i >= 0 && w[size_t(p)] != 0.0)
-            sum += w[size_t(p)] * state_.mode(i).now;
-    return sum;
-}
-
-// phi_p(x_j) for every point and mode, and what a force at each point does to the pickup.
+// phi_p(x_j) for every point and mode.
 void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
 {
     if (!config.contactShapes.empty())
@@ -148,19 +92,6 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
         for (int j = 0; j < P_; ++j)
             for (int p = 0; p < M_; ++p)
                 shapes[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
-    }
-    for (int j = 0; j < P_; ++j)
-    {
-        double hp = 0.0, hpB = 0.0;
-        for (int p = 0; p < M_; ++p)
-        {
-            hp += pickupWeights_[p] * shapes_[size_t(j) * M_ + p];
-            hpB += pickupWeightsB_.empty() ? 0.0 : pickupWeightsB_[p] * shapes_[size_t(j) * M_ + p];
-        }
-        const double* shape = shapes_.data() + size_t(j) * M_;
-        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * (hp + staticPickup(false, shape));
-        pickupPhiWB_[j] = pickupWeightsB_.empty() ? 0.0
-                                                  : forceScale_ * contacts_[j].weight * (hpB + staticPickup(true, shape));
     }
 }
 
@@ -189,11 +120,6 @@ void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
             if (std::abs(excitationShape[p]) > couplingFloor)
                 coupled[p] = 1;
         }
-        pickupPhiE_ = forceScale_ * (kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_)
-                                     + staticPickup(false, excitationShape_.data()));
-        if (!pickupWeightsB_.empty())
-            pickupPhiEB_ = forceScale_ * (kernels::dot(pickupWeightsB_.data(), excitationShape_.data(), M_)
-                                          + staticPickup(true, excitationShape_.data()));
     }
 }
 
@@ -251,7 +177,7 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
         throw std::invalid_argument("modal state has the wrong number of modes");
     state_.compact(coupled_, current, previous, excitationShape_, shapes_, P_, transform_ != nullptr,
                    !transform_ && P_ <= 1);
-    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
+    state_.fillTables(coeffs_, coeffsReleased_, pickups_[0].weights(), pickups_[1].weights());
     restartFromModes();
 }
 
@@ -264,8 +190,8 @@ void ModalSolver::restartFromModes()
     wakeAll();
     projectActive(state_.q(), uC_.data());
     projectActive(state_.qPrev(), uCPrev_.data());
-    pickup_ = kernels::dot(state_.h(), state_.q(), state_.activeCount());
-    pickupB_ = state_.h2() != nullptr ? kernels::dot(state_.h2(), state_.q(), state_.activeCount()) : 0.0;
+    for (int k = 0; k < 2; ++k)
+        pickups_[size_t(k)].read(activePickupWeights(k), state_);
     if (method_ == ContactMethod::quadratised)
         quadratised_.restart(contacts_, uC_.data(), uCPrev_.data());
 }
@@ -330,7 +256,7 @@ void ModalSolver::finishStep(const ScalarContactSolution& solution)
 void ModalSolver::setExternalForce(double newtons)
 {
     if (newtons == 0.0 && externalForce_ != 0.0)
-        reachStale_ = true;  // the energy the force put in
+        reach_.markStale();  // the energy the force put in
     externalForce_ = excitationShape_.empty() ? 0.0 : newtons;
 }
 
@@ -364,7 +290,7 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
     };
     double sum = 0.0;
     for (int j = 0; j < P_; ++j)
-        if (!liveOnly || live_[size_t(j)])
+        if (!liveOnly || reach_.live(j))
             sum += contacts_[j].weight * 0.5
                * (psi(j, contacts_[j].height - u[j] - compliance_.delta(j))
                   + psi(j, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
@@ -373,15 +299,12 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
 
 double ModalSolver::pickupCompliance(bool second) const
 {
-    // Every weight in full: the modes read statically still move the pickup.
-    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
-    double sum = 0.0;
-    for (size_t p = 0; p < base.size(); ++p)
-    {
-        const double h = pickupScale_ * base[p];
-        sum += h * h / (mu_ * omega_[p] * omega_[p]);
-    }
-    return sum;
+    return pickups_[second ? 1 : 0].compliance(mu_, omega_);
+}
+
+double ModalSolver::pickupAboveBand(bool second) const
+{
+    return pickups_[second ? 1 : 0].aboveBand(state_);
 }
 
 void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
@@ -398,34 +321,19 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         coeffs[p] = exactCoefficients(omegas[p], sigmas[p], dt_);
         coeffsReleased[p] = exactCoefficients(omegas[p], sigmas[p] + releaseSigma_, dt_);
     }
-    pickupScale_ = pickupScale;
-    setPickupWeights();
-    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
-    pickup_ = projectPickup(false, pickupPhiW_, pickupPhiE_);
-    if (state_.h2() != nullptr)
-        pickupB_ = projectPickup(true, pickupPhiWB_, pickupPhiEB_);
+    for (auto& pickup : pickups_)
+        pickup.setWeights(omega_, pickupScale);
+    state_.fillTables(coeffs_, coeffsReleased_, pickups_[0].weights(), pickups_[1].weights());
+    for (int k = 0; k < 2; ++k)
+        if (const double* h = activePickupWeights(k))
+            pickups_[size_t(k)].rereadActive(h, state_, pickupForces(), !transform_);
     if (compliance_.active())
     {
         compliance_.rescale(complianceScale, contacts_);
         updateCouplings();
     }
-    computeReach();
-    reachStale_ = true;  // the same motion at another pitch holds another energy
-}
-
-// For a pickup's weights h over the active modes: what a force at each point and at the excitation
-// does to the pickup ((dt^2/mu) w_j h . phi_j, (dt^2/mu) h . phi_e, with the static response of the
-// modes above the pickup band); returns the pickup h . q^n.
-double ModalSolver::projectPickup(bool second, std::vector<double>& phiW, double& phiE) const
-{
-    const double* h = second ? state_.h2() : state_.h();
-    const int Ma = state_.activeCount();
-    for (int j = 0; j < P_ && !transform_; ++j)
-        phiW[size_t(j)] = forceScale_ * contacts_[j].weight
-                        * (kernels::dot(h, state_.phi(j), Ma) + staticPickup(second, shapes_.data() + size_t(j) * M_));
-    if (!excitationShape_.empty())
-        phiE = forceScale_ * (kernels::dot(h, state_.phiE(), Ma) + staticPickup(second, excitationShape_.data()));
-    return kernels::dot(h, state_.q(), Ma);
+    measureReach();
+    reach_.markStale();  // the same motion at another pitch holds another energy
 }
 
 void ModalSolver::updateCouplings()
@@ -464,7 +372,7 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
                             || contacts_[size_t(j)].law.exponent != law.exponent;
     if (contacts_[size_t(j)].height != height)
         wakeAll();  // a sleeping point may now be within reach
-    reachStale_ = true;  // and the obstacles' energy is another
+    reach_.markStale();  // and the obstacles' energy is another
     contacts_[size_t(j)].law = law;
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, law);
@@ -495,8 +403,8 @@ void ModalSolver::resetToRest()
     wakeAll();
     compliance_.reset();
     quadratised_.reset();
-    pickup_ = pickupTilde_ = 0.0;
-    pickupB_ = pickupTildeB_ = 0.0;
+    for (auto& pickup : pickups_)
+        pickup.value = pickup.predicted = 0.0;
 }
 
 void ModalSolver::takeMotionFrom(ModalSolver& other)
@@ -516,7 +424,7 @@ void ModalSolver::takeMotionFrom(ModalSolver& other)
 int ModalSolver::solveContacts()
 {
     if (method_ == ContactMethod::energyConserving)
-        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), liveRows_.data(), liveCount_);
+        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), reach_.liveRows(), reach_.liveCount());
     // The explicit methods start from the penetration at n.
     for (int j = 0; j < P_; ++j)
         penetration_[j] = contacts_[j].height - uC_[j] - compliance_.delta(j);
@@ -537,21 +445,20 @@ void ModalSolver::predictPairStep()
         kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
                           state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(),
                           state_.pickupCount(), pass_);
-        pairPickup_ = pass_.pickup1;
+        pickups_[0].predicted = pass_.pickup1;
         pairU_ = pass_.contact1;
-        pairPickupB_ = pass_.second1;
+        pickups_[1].predicted = pass_.second1;
         return;
     }
-    pairPickup_ = pass_.pickup2 + state_.c1() * state_.sumAPhiH();
+    pickups_[0].predicted = pass_.pickup2 + state_.c1() * state_.sumAPhiH();
     pairU_ = pass_.contact2 + state_.c1() * state_.sumAPhiSquared();
-    pairPickupB_ = pass_.second2 + state_.c1() * state_.sumAPhiH2();
+    pickups_[1].predicted = pass_.second2 + state_.c1() * state_.sumAPhiH2();
 }
 
 // With the point's slope G: u_C^{n+1} = u~ + A f with f = -G, q^{n+1} = q~ + c phi with
 // c = -(dt^2/mu) w G (the layout's correction), and the pickup likewise.
 void ModalSolver::finishPairStep()
 {
-    double y = pairPickup_, yB = pairPickupB_;
     double c = 0.0;
     if (P_ == 1)
     {
@@ -561,11 +468,11 @@ void ModalSolver::finishPairStep()
         compliance_.advance(slope_.data());
         lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
         c = -forceScale_ * contacts_[0].weight * G;
-        y -= pickupPhiW_[0] * G;
-        yB -= pickupPhiWB_[0] * G;
+        for (auto& pickup : pickups_)
+            pickup.press(0, G);
     }
-    pickup_ = y;
-    pickupB_ = yB;
+    for (auto& pickup : pickups_)
+        pickup.value = pickup.predicted;
     if (state_.layout() == ModalState::Layout::pairBoundary)
         state_.setPairMiddle(c);
     else
@@ -589,11 +496,11 @@ int ModalSolver::solveSplines()
 
 void ModalSolver::stepSingle()
 {
-    if (leaveOutOfReach_)
+    if (reach_.enabled())
     {
         if (externalForce_ != 0.0)
             wakeAll();
-        else if (reachStale_ || --stepsToReachCheck_ <= 0)
+        else if (reach_.checkDue())
             refreshReach();
     }
     predictAtPoints();
@@ -601,137 +508,82 @@ void ModalSolver::stepSingle()
     pressing_.clear();
     if (P_ > 0)
     {
-        for (int k = 0; k < liveCount_; ++k)
+        const int* rows = reach_.liveRows();
+        for (int k = 0; k < reach_.liveCount(); ++k)
         {
-            const int j = liveRows_[size_t(k)];
+            const int j = rows[k];
             s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
             b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.deltaPrev(j);
         }
         lastIterations_ = solveContacts();
-        for (int k = 0; k < liveCount_; ++k)
-            if (slope_[liveRows_[size_t(k)]] != 0.0)
-                pressing_.push_back(liveRows_[size_t(k)]);
+        for (int k = 0; k < reach_.liveCount(); ++k)
+            if (slope_[rows[k]] != 0.0)
+                pressing_.push_back(rows[k]);
     }
     if (!pressing_.empty())
         applyContactForces();
     endSingleStep();
 }
 
-// reach_j = sqrt((2/mu) sum_p phi_p(x_j)^2 kappa_p^2) + 2 sqrt(C_jj) for every point, so that a string of
-// energy H has |u_j + delta_j| <= sqrt(H) reach_j. Mode p's share of H^{n-1/2} is
-//   E_p = (mu/2) (C1 (q^n - q^{n-1})^2 / dt^2 + C2 q^n q^{n-1}) = (mu/2) (a D^2 + (C2/4) S^2)
-// with D = q^n - q^{n-1}, S = q^n + q^{n-1}, a = C1/dt^2 - C2/4 (both weights positive for a stable mode),
-// so |q^n| <= (|S| + |D|)/2 <= sqrt(2 E_p / mu) kappa_p, kappa_p = 1/sqrt(C2) + 1/(2 sqrt(a)) (the larger of
-// the two coefficient sets'); Cauchy-Schwarz over the modes gives the first term. The dropped modes'
-// spring holds delta^T C^-1 delta / 4 <= H, so |delta_j| <= 2 sqrt(H C_jj). RT (no allocation).
-void ModalSolver::computeReach()
+void ModalSolver::measureReach()
 {
-    if (!leaveOutOfReach_)
-        return;
-    auto kappa = [&](const ExactModeCoefficients& c) {
-        const double a = c.kineticWeight / (dt_ * dt_) - 0.25 * c.potentialWeight;
-        if (!(c.potentialWeight > 0.0) || !(a > 0.0))
-            return std::numeric_limits<double>::infinity();
-        return 1.0 / std::sqrt(c.potentialWeight) + 0.5 / std::sqrt(a);
-    };
-    // Once per mode (two square roots and two divisions each), not once per point and mode: a note's
-    // start retunes its string, and this loop was most of what that cost.
-    auto& kappas = kappa_.edit();
-    for (int p = 0; p < M_; ++p)
-        kappas[size_t(p)] = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
-    for (int j = 0; j < P_; ++j)
-    {
-        double sum = 0.0;
-        for (int p = 0; p < M_; ++p)
-        {
-            const double k = kappa_[size_t(p)];
-            const double phi = shapes_[size_t(j) * M_ + p];
-            sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
-        }
-        const double spring =
-            compliance_.active() ? std::max(compliance_.complianceW()(j, j) / contacts_[j].weight, 0.0) : 0.0;
-        reach_[size_t(j)] = std::sqrt(2.0 * sum / mu_) + 2.0 * std::sqrt(spring);
-    }
+    reach_.measure(coeffs_, coeffsReleased_, shapes_, dt_, mu_, compliance_, contacts_);
 }
 
-// H^{n-1/2} measured, and the points within sqrt(H) reach_j of their obstacle (5 % spare for the
-// Newton's tolerance) taken into the solve; a point that joins gets its u^n and u^{n-1}.
+// H^{n-1/2} measured: a point that joins gets its u^n and u^{n-1}; one left out, no force.
 void ModalSolver::refreshReach()
 {
-    reachStale_ = false;
-    stepsToReachCheck_ = kReachCheckSteps;
     const double H = stringEnergy() + obstacleEnergy() + compliance_.energy();
-    const double radius = 1.05 * std::sqrt(std::max(H, 0.0));
-    liveCount_ = 0;
-    for (int j = 0; j < P_; ++j)
-    {
-        const bool reachable = !(contacts_[j].height + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
-        if (reachable)
-        {
-            wake(j);
-            liveRows_[size_t(liveCount_++)] = j;
-        }
-        else
-            slope_[j] = 0.0;  // left out of the solve: no force
-        live_[size_t(j)] = reachable;
-    }
-}
-
-// Point j's u^n and u^{n-1} from the state, if it was not live.
-void ModalSolver::wake(int j)
-{
-    if (live_[size_t(j)])
-        return;
-    // Summed as the step's own projections are (kernels::projectRows).
-    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.q(), state_.paddedCount(), uC_.data());
-    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.qPrev(), state_.paddedCount(), uCPrev_.data());
-    live_[size_t(j)] = 1;
+    reach_.refresh(
+        H, contacts_, [this](int j) { projectPoint(j); }, [this](int j) { slope_[size_t(j)] = 0.0; });
 }
 
 void ModalSolver::wakeAll()
 {
-    if (liveCount_ == P_)
-        return;
-    for (int j = 0; j < P_; ++j)
-    {
-        wake(j);
-        liveRows_[size_t(j)] = j;
-    }
-    liveCount_ = P_;
+    reach_.wakeAll([this](int j) { projectPoint(j); });
+}
+
+void ModalSolver::projectPoint(int j)
+{
+    // Summed as the step's own projections are (kernels::projectRows).
+    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.q(), state_.paddedCount(), uC_.data());
+    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.qPrev(), state_.paddedCount(), uCPrev_.data());
 }
 
 // q~ = a q - e q^{n-1}, written over q^{n-1}, with any explicit force; its pickup and contact
-// projections (pickupTilde_, uTilde_).
+// projections (the pickups' predicted readings, uTilde_).
 void ModalSolver::predictAtPoints()
 {
     double* next = state_.qPrev();
     const int Mpad = state_.paddedCount();
     // The first kMaxFused live points are projected in the prediction's own pass (not with an explicit
     // force, which joins q~ after it), the rest kMaxFused at a time, each sum in the same order.
-    const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(liveCount_, kernels::kMaxFused);
+    const int live = reach_.liveCount();
+    const int* rows = reach_.liveRows();
+    const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(live, kernels::kMaxFused);
+    auto& [first, second] = pickups_;
     if (fused > 0)
-        pickupTilde_ =
-            kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), state_.phi(0),
-                                    state_.stride(), liveRows_.data(), fused, Mpad, state_.pickupCount(),
-                                    uTilde_.data(), pickupTildeB_);
+        first.predicted = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(),
+                                                  state_.phi(0), state_.stride(), rows, fused, Mpad,
+                                                  state_.pickupCount(), uTilde_.data(), second.predicted);
     else
-        pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
-                                        state_.pickupCount(), pickupTildeB_);
+        first.predicted = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
+                                           state_.pickupCount(), second.predicted);
     if (externalForce_ != 0.0)
     {
         // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.
         kernels::axpy(forceScale_ * externalForce_, state_.phiE(), next, Mpad);
-        pickupTilde_ += externalForce_ * pickupPhiE_;
-        pickupTildeB_ += externalForce_ * pickupPhiEB_;
+        for (auto& pickup : pickups_)
+            pickup.push(externalForce_);
     }
     if (transform_)
     {
         transform_->sample(next, uTilde_.data());
         return;
     }
-    for (int k = fused; k < liveCount_; k += kernels::kMaxFused)
-        kernels::projectRows(state_.phi(0), state_.stride(), liveRows_.data() + k,
-                             std::min(kernels::kMaxFused, liveCount_ - k), next, Mpad, uTilde_.data());
+    for (int k = fused; k < live; k += kernels::kMaxFused)
+        kernels::projectRows(state_.phi(0), state_.stride(), rows + k, std::min(kernels::kMaxFused, live - k), next,
+                             Mpad, uTilde_.data());
 }
 
 // q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r); u_C^{n+1} = u~ + A f at the live points, and the
@@ -749,19 +601,18 @@ void ModalSolver::applyContactForces()
         for (int i : pressing_)
             kernels::axpy(-forceScale_ * contacts_[i].weight * slope_[i], state_.phi(i), next, state_.paddedCount());
     const auto& A = stringCoupling_;
-    for (int k = 0; k < liveCount_; ++k)
+    const int* rows = reach_.liveRows();
+    for (int k = 0; k < reach_.liveCount(); ++k)
     {
-        const int j = liveRows_[size_t(k)];
+        const int j = rows[k];
         double Af = 0.0;
         for (int i : pressing_)
             Af -= A(j, i) * slope_[i];
         uTilde_[j] += Af;
     }
     for (int i : pressing_)
-    {
-        pickupTilde_ -= pickupPhiW_[i] * slope_[i];
-        pickupTildeB_ -= pickupPhiWB_[i] * slope_[i];
-    }
+        for (auto& pickup : pickups_)
+            pickup.press(i, slope_[i]);
 }
 
 // The step's end: the compliance, the live points' contact displacements and penetration, q^{n+1} as q.
@@ -770,9 +621,10 @@ void ModalSolver::endSingleStep()
     if (P_ > 0)
         compliance_.advance(slope_.data());
     double deepest = -std::numeric_limits<double>::infinity();  // a local: the stores below may alias a member
-    for (int k = 0; k < liveCount_; ++k)
+    const int* rows = reach_.liveRows();
+    for (int k = 0; k < reach_.liveCount(); ++k)
     {
-        const int j = liveRows_[size_t(k)];
+        const int j = rows[k];
         const double u = uTilde_[j];
         uCPrev_[j] = uC_[j];
         uC_[j] = u;
@@ -780,8 +632,8 @@ void ModalSolver::endSingleStep()
     }
     lastPenetration_ = deepest;
     state_.swapSingle();
-    pickup_ = pickupTilde_;
-    pickupB_ = pickupTildeB_;
+    for (auto& pickup : pickups_)
+        pickup.value = pickup.predicted;
 }
 
 void ModalSolver::fullState(std::vector<double>& current, std::vector<double>& previous) const
