@@ -54,9 +54,8 @@ void ContactReach::measure(const std::vector<ExactModeCoefficients>& normal,
             const double phi = shapes[j * M + p];
             sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
         }
-        const double spring = compliance.active()
-                                  ? std::max(compliance.complianceW()(long(j), long(j)) / contacts[j].weight, 0.0)
-                                  : 0.0;
+        const double spring =
+            compliance.active() ? std::max(compliance.complianceW()(long(j), long(j)) / contacts[j].weight, 0.0) : 0.0;
         reach_[j] = std::sqrt(2.0 * sum / mu) + 2.0 * std::sqrt(spring);
     }
 }

@@ -225,7 +225,7 @@ private:
     void refreshReach();   // RT: H measured, the live points chosen afresh
     void wakeAll();        // RT: every point live
     void projectPoint(int j);  // RT: point j's u^n and u^{n-1} from the state
-    PickupReadout::Forces pickupForces() const;
+    PickupReadout::Forces pickupForces() const { return {shapes_, excitationShape_, contacts_, forceScale_, coeffs_}; }
     // The stepping arrays' weights of pickup k over the active modes (null: no such pickup).
     const double* activePickupWeights(int k) const { return k == 0 ? state_.h() : state_.h2(); }
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled

@@ -65,8 +65,9 @@ void PickupReadout::readForces(const Forces& forces)
     }
     const auto& excitation = forces.excitationShape;
     if (!excitation.empty())
-        atExcitation_ = forces.forceScale * (kernels::dot(weights_.data(), excitation.data(), static_cast<int>(M))
-                                             + staticResponse(excitation.data(), forces.coefficients));
+        atExcitation_ = forces.forceScale
+                        * (kernels::dot(weights_.data(), excitation.data(), static_cast<int>(M))
+                           + staticResponse(excitation.data(), forces.coefficients));
 }
 
 void PickupReadout::rereadActive(const double* h, const ModalState& state, const Forces& forces, bool atPoints)
@@ -75,11 +76,12 @@ void PickupReadout::rereadActive(const double* h, const ModalState& state, const
     const size_t M = base_.size();
     for (size_t j = 0; j < forces.contacts.size() && atPoints; ++j)
         atPoint_[j] = forces.forceScale * forces.contacts[j].weight
-                    * (kernels::dot(h, state.phi(static_cast<int>(j)), Ma)
-                       + staticResponse(forces.contactShapes.data() + j * M, forces.coefficients));
+                      * (kernels::dot(h, state.phi(static_cast<int>(j)), Ma)
+                         + staticResponse(forces.contactShapes.data() + j * M, forces.coefficients));
     if (!forces.excitationShape.empty())
-        atExcitation_ = forces.forceScale * (kernels::dot(h, state.phiE(), Ma)
-                                             + staticResponse(forces.excitationShape.data(), forces.coefficients));
+        atExcitation_ =
+            forces.forceScale
+            * (kernels::dot(h, state.phiE(), Ma) + staticResponse(forces.excitationShape.data(), forces.coefficients));
     read(h, state);
 }
 

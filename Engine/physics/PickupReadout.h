@@ -13,8 +13,8 @@
 //
 // The solver keeps one per pickup (the instrument's two channels); a pickup without weights reads 0.
 
-#include "physics/Obstacle.h"
 #include "physics/ExactOscillator.h"
+#include "physics/Obstacle.h"
 #include "physics/StampedVector.h"
 
 #include <vector>
@@ -78,7 +78,7 @@ private:
     // The share read statically, (1 - moving share) scale_ h_p; empty without a band.
     StampedVector<double> static_;
     double scale_ = 1.0;
-    double bandOmega_ = 0.0;  // rad/s; 0: every mode moves
+    double bandOmega_ = 0.0;       // rad/s; 0: every mode moves
     std::vector<double> atPoint_;  // (dt^2/mu) w_j (h . phi_j) per point, static response included
     double atExcitation_ = 0.0;    // (dt^2/mu) h . phi_e
 };
