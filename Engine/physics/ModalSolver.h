@@ -244,6 +244,7 @@ private:
     StampedVector<char> coupled_;            // mode p touches some contact point
     StampedVector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
 
+    // The prediction q~ = a q^n - e q^{n-1} (with an explicit force), and what the pickups read of it.
     ModalState state_;
     double externalForce_ = 0.0;  // N
     // The pickups' readings (the first: the left channel's; the second: the right's, or none).
@@ -251,6 +252,8 @@ private:
     kernels::PairReadout pass_;  // the last paired pass's projections of both its steps
     double pairU_ = 0.0;         // the paired step's contact-free u~
 
+    // The contact at the points: r + A G(r) = Phi q~ - u_C^{n-1}, with the dropped modes' spring in series
+    // (A + C W), solved by the configured method over the points within reach.
     Eigen::MatrixXd stringCoupling_;   // A = (dt^2/mu) Phi Phi^T W: the string's response at the points
     Eigen::MatrixXd couplingScratch_;  // A + C W, rebuilt on the audio thread by a retune
     Eigen::MatrixXd pointCoupling_;    // (A + C W) W^{-1}: response at the points per newton
@@ -259,13 +262,15 @@ private:
     ContactSystem system_;  // the energy-conserving Newton
     QuadratisedContact quadratised_;
     std::vector<ContactSpline> splines_;  // per point, the quadratic-spline method's potential
+    // u_C^n, u_C^{n-1}, u~ at the points; the equation's s and b, its solution r and slope G(r).
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_, penetration_, pointForce_;
     std::vector<ContactPoint> contacts_;
     OwnedGridTransform transform_;
     int lastIterations_ = 0;
     double lastPenetration_ = 0.0;
     ContactReach reach_;         // the points the step takes
-    std::vector<int> pressing_;  // the points with a force this step
+    // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
+    std::vector<int> pressing_;
 };
 
 }  // namespace jawari
