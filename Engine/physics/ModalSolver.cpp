@@ -1,3 +1,5 @@
+// The solver's step, in its two forms (one pass per step; two steps per pass with one point), its
+// automation (retune, contact law, force) and its energy. Construction and state set-up: ModalSolverSetup.cpp.
 #include "physics/ModalSolver.h"
 
 #include "physics/ModalKernels.h"
@@ -11,278 +13,6 @@
 
 namespace jawari
 {
-
-ModalSolver::ModalSolver(const ModalSolverConfig& config)
-    : M_(config.modes.size())
-    , P_(static_cast<int>(config.contacts.size()))
-    , dt_(config.timeStep)
-    , mu_(config.linearDensity)
-    , lengthMetres_(config.lengthMetres)
-    , forceScale_(config.timeStep * config.timeStep / config.linearDensity)
-    , contacts_(config.contacts)
-{
-    if (M_ < 1)
-        throw std::invalid_argument("the modal solver needs at least one mode");
-    if (!(dt_ > 0.0) || !(mu_ > 0.0) || !(config.lengthMetres > 0.0))
-        throw std::invalid_argument("the modal solver needs a positive time step, density and length");
-    buildModeTables(config);
-    for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &pickupPhiW_, &pickupPhiWB_, &penetration_,
-                    &pointForce_})
-        v->assign(P_, 0.0);
-    if (config.transform && P_ > 0)
-        transform_ = config.transform(contacts_, lengthMetres_, M_);
-    buildContactShapes(config);
-    markCoupledModes(config);
-    prepareContactMethods(config, stringResponse());
-    live_.assign(P_, 1);
-    liveRows_.resize(P_);
-    pressing_.reserve(P_);
-    reach_.assign(P_, std::numeric_limits<double>::infinity());
-    kappa_.edit().assign(M_, 0.0);
-    leaveOutOfReach_ = config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving && P_ >= 2
-                       && !system_.isDiagonal();
-    computeReach();
-    if (transform_)
-    {
-        shapes_.edit() = std::vector<double>();  // the transform reaches the points: no table kept
-    }
-    setState(std::vector<double>(M_, 0.0), std::vector<double>(M_, 0.0));
-}
-
-void ModalSolver::buildModeTables(const ModalSolverConfig& config)
-{
-    auto& coeffs = coeffs_.edit();
-    auto& coeffsReleased = coeffsReleased_.edit();
-    coeffs.resize(M_);
-    coeffsReleased.resize(M_);
-    omega_ = config.modes.omega;
-    sigma_ = config.modes.sigma;
-    releaseSigma_ = config.releaseSigma;
-    for (int p = 0; p < M_; ++p)
-    {
-        coeffs[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
-        coeffsReleased[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
-    }
-    basePickupWeights_ = config.pickupWeights;
-    basePickupWeights_.edit().resize(M_, 0.0);
-    basePickupWeightsB_ = config.secondPickupWeights;
-    if (!basePickupWeightsB_.empty())
-        basePickupWeightsB_.edit().resize(M_, 0.0);
-    if (config.pickupBandHz < 0.0 || !std::isfinite(config.pickupBandHz))
-        throw std::invalid_argument("the pickup band must be a frequency >= 0 Hz");
-    pickupBandOmega_ = 2.0 * std::numbers::pi * config.pickupBandHz;
-    pickupWeights_.edit().resize(M_);
-    pickupWeightsB_.edit().resize(basePickupWeightsB_.size());
-    if (pickupBandOmega_ > 0.0)
-    {
-        staticWeights_.edit().resize(M_);
-        staticWeightsB_.edit().resize(basePickupWeightsB_.size());
-    }
-    setPickupWeights();
-}
-
-// The share of mode p the pickups read as it moves: 1 up to the band, 0 from 1.25 times it, and
-// linear in the frequency between, so a pitch bend carries a mode across without a step.
-double ModalSolver::movingShare(int p) const
-{
-    if (pickupBandOmega_ == 0.0)
-        return 1.0;
-    return std::clamp((1.25 * pickupBandOmega_ - omega_[p]) / (0.25 * pickupBandOmega_), 0.0, 1.0);
-}
-
-void ModalSolver::setPickupWeights()
-{
-    auto& weights = pickupWeights_.edit();
-    auto& weightsB = pickupWeightsB_.edit();
-    auto& staticWeights = staticWeights_.edit();
-    auto& staticWeightsB = staticWeightsB_.edit();
-    for (int p = 0; p < M_; ++p)
-    {
-        const double moving = movingShare(p);
-        const double kept = pickupScale_ * moving;
-        weights[p] = kept * basePickupWeights_[p];
-        if (!weightsB.empty())
-            weightsB[p] = kept * basePickupWeightsB_[p];
-        if (!staticWeights.empty())
-        {
-            staticWeights[p] = (1.0 - moving) * pickupScale_ * basePickupWeights_[p];
-            if (!staticWeightsB.empty())
-                staticWeightsB[p] = (1.0 - moving) * pickupScale_ * basePickupWeightsB_[p];
-        }
-    }
-}
-
-double ModalSolver::staticPickup(bool second, const double* shape) const
-{
-    const auto& w = second ? staticWeightsB_ : staticWeights_;
-    double sum = 0.0;
-    for (size_t p = 0; p < w.size(); ++p)
-        if (w[p] != 0.0)
-            sum += w[p] * shape[p] / (1.0 - coeffs_[p].a + coeffs_[p].e);
-    return sum;
-}
-
-double ModalSolver::pickupAboveBand(bool second) const
-{
-    const auto& w = second ? staticWeightsB_ : staticWeights_;
-    double sum = 0.0;
-    for (int p = 0; p < static_cast<int>(w.size()); ++p)
-        if (const int i = state_.indexOfMode(p); i >= 0 && w[size_t(p)] != 0.0)
-            sum += w[size_t(p)] * state_.mode(i).now;
-    return sum;
-}
-
-// phi_p(x_j) for every point and mode, and what a force at each point does to the pickup.
-void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
-{
-    if (!config.contactShapes.empty())
-    {
-        if (config.contactShapes.size() != static_cast<size_t>(P_) * M_ || config.transform)
-            throw std::invalid_argument("the contact shapes must be P x M values, on the projection path");
-        shapes_ = config.contactShapes;
-    }
-    else
-    {
-        auto& shapes = shapes_.edit();
-        shapes.resize(static_cast<size_t>(P_) * M_);
-        for (int j = 0; j < P_; ++j)
-            for (int p = 0; p < M_; ++p)
-                shapes[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
-    }
-    for (int j = 0; j < P_; ++j)
-    {
-        double hp = 0.0, hpB = 0.0;
-        for (int p = 0; p < M_; ++p)
-        {
-            hp += pickupWeights_[p] * shapes_[size_t(j) * M_ + p];
-            hpB += pickupWeightsB_.empty() ? 0.0 : pickupWeightsB_[p] * shapes_[size_t(j) * M_ + p];
-        }
-        const double* shape = shapes_.data() + size_t(j) * M_;
-        pickupPhiW_[j] = forceScale_ * contacts_[j].weight * (hp + staticPickup(false, shape));
-        pickupPhiWB_[j] = pickupWeightsB_.empty() ? 0.0
-                                                  : forceScale_ * contacts_[j].weight * (hpB + staticPickup(true, shape));
-    }
-}
-
-// A mode is coupled when some contact point, or the excitation point, sees it above rounding
-// (|phi| <= sqrt(2/L)); the transform path and keepEveryMode step every mode.
-void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
-{
-    const double L = config.lengthMetres;
-    auto& coupled = coupled_.edit();
-    coupled.assign(M_, transform_ || config.keepEveryMode ? 1 : 0);
-    const double couplingFloor = 1e-13 * std::sqrt(2.0 / L);
-    for (int j = 0; j < P_; ++j)
-        for (int p = 0; p < M_; ++p)
-            if (std::abs(shapes_[size_t(j) * M_ + p]) > couplingFloor)
-                coupled[p] = 1;
-    if (config.excitationPosition)
-    {
-        if (!config.excitationShape.empty() && static_cast<int>(config.excitationShape.size()) != M_)
-            throw std::invalid_argument("the excitation shape must have one value per mode");
-        auto& excitationShape = excitationShape_.edit();
-        excitationShape.resize(M_);
-        for (int p = 0; p < M_; ++p)
-        {
-            excitationShape[p] = config.excitationShape.empty() ? modeShape(L, p + 1, *config.excitationPosition)
-                                                                : config.excitationShape[size_t(p)];
-            if (std::abs(excitationShape[p]) > couplingFloor)
-                coupled[p] = 1;
-        }
-        pickupPhiE_ = forceScale_ * (kernels::dot(pickupWeights_.data(), excitationShape_.data(), M_)
-                                     + staticPickup(false, excitationShape_.data()));
-        if (!pickupWeightsB_.empty())
-            pickupPhiEB_ = forceScale_ * (kernels::dot(pickupWeightsB_.data(), excitationShape_.data(), M_)
-                                          + staticPickup(true, excitationShape_.data()));
-    }
-}
-
-// A = (dt^2/mu) Phi Phi^T W, the string's response at the points. On the grid with M = N - 1,
-// S dx S^T = I, so Phi Phi^T W = diag(w_j / dx).
-Eigen::MatrixXd ModalSolver::stringResponse() const
-{
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P_, P_);
-    if (transform_)
-    {
-        const double dx = lengthMetres_ / (M_ + 1);
-        for (int j = 0; j < P_; ++j)
-            A(j, j) = forceScale_ * contacts_[j].weight / dx;
-        return A;
-    }
-    for (int i = 0; i < P_; ++i)
-        for (int j = 0; j < P_; ++j)
-            A(i, j) = forceScale_ * contacts_[j].weight
-                      * kernels::dot(&shapes_[size_t(i) * M_], &shapes_[size_t(j) * M_], M_);
-    return A;
-}
-
-// The residual compliance and the chosen contact method, on the coupling A (+ C W).
-void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::MatrixXd A)
-{
-    stringCoupling_ = A;
-    compliance_.prepare(transform_ ? std::vector<double>{} : config.contactCompliance, contacts_);
-    if (compliance_.active())
-    {
-        couplingScratch_ = A + compliance_.complianceW();
-        // The contact sees the true displacement change R = r + delta^{n+1} - delta^{n-1}
-        //   = (b - delta^{n-1}) + (A + C W) f: the same equation with A + C W.
-        A += compliance_.complianceW();
-    }
-    method_ = config.method;
-    pointCoupling_ = A;
-    for (int j = 0; j < P_; ++j)
-        pointCoupling_.col(j) /= contacts_[j].weight;
-    quadratised_.prepare(P_);
-    system_.prepare(contacts_, std::move(A));
-    if (method_ == ContactMethod::quadraticSpline)
-    {
-        // Closed form per point: the points must not be coupled (one point, or the reference grid).
-        if (!system_.isDiagonal())
-            throw std::invalid_argument("the quadratic-spline contact needs decoupled contact points: one point, "
-                                        "or a distributed obstacle on the reference grid");
-        for (const auto& c : contacts_)
-            splines_.emplace_back(c.law);
-    }
-}
-
-void ModalSolver::setState(const std::vector<double>& current, const std::vector<double>& previous)
-{
-    if (static_cast<int>(current.size()) != M_ || static_cast<int>(previous.size()) != M_)
-        throw std::invalid_argument("modal state has the wrong number of modes");
-    state_.compact(coupled_, current, previous, excitationShape_, shapes_, P_, transform_ != nullptr,
-                   !transform_ && P_ <= 1);
-    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
-    restartFromModes();
-}
-
-void ModalSolver::restartFromModes()
-{
-    // Everything derived from the modal state, afresh: contact displacements, pickup, the
-    // compliance deflections and the quadratised variable (xi = sqrt(2 V) at n and n-1).
-    system_.reset();
-    compliance_.reset();
-    wakeAll();
-    projectActive(state_.q(), uC_.data());
-    projectActive(state_.qPrev(), uCPrev_.data());
-    pickup_ = kernels::dot(state_.h(), state_.q(), state_.activeCount());
-    pickupB_ = state_.h2() != nullptr ? kernels::dot(state_.h2(), state_.q(), state_.activeCount()) : 0.0;
-    if (method_ == ContactMethod::quadratised)
-        quadratised_.restart(contacts_, uC_.data(), uCPrev_.data());
-}
-
-void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplacement)
-{
-    if (static_cast<int>(modalDisplacement.size()) != M_)
-        throw std::invalid_argument("initial displacement has the wrong number of modes");
-    // q^{-1} is the exact free motion one step back, so a run without contact is the analytic
-    // solution. For a mode damped by more than e^0.5 per step that value is huge (e^{sigma dt}: the
-    // top modes of a fine grid at an audio rate reach e^26) and the recurrence would cancel huge
-    // numbers; such a mode starts at rest in the centred sense instead, q^{-1} = q(+dt).
-    std::vector<double> previous(M_, 0.0);
-    for (int p = 0; p < M_; ++p)
-        previous[p] = previousAtRest(p, modalDisplacement[p]);
-    setState(modalDisplacement, previous);
-}
 
 void ModalSolver::step()
 {
@@ -330,7 +60,7 @@ void ModalSolver::finishStep(const ScalarContactSolution& solution)
 void ModalSolver::setExternalForce(double newtons)
 {
     if (newtons == 0.0 && externalForce_ != 0.0)
-        reachStale_ = true;  // the energy the force put in
+        reach_.markStale();  // the energy the force put in
     externalForce_ = excitationShape_.empty() ? 0.0 : newtons;
 }
 
@@ -364,7 +94,7 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
     };
     double sum = 0.0;
     for (int j = 0; j < P_; ++j)
-        if (!liveOnly || live_[size_t(j)])
+        if (!liveOnly || reach_.live(j))
             sum += contacts_[j].weight * 0.5
                * (psi(j, contacts_[j].height - u[j] - compliance_.delta(j))
                   + psi(j, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
@@ -373,15 +103,12 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
 
 double ModalSolver::pickupCompliance(bool second) const
 {
-    // Every weight in full: the modes read statically still move the pickup.
-    const auto& base = second ? basePickupWeightsB_ : basePickupWeights_;
-    double sum = 0.0;
-    for (size_t p = 0; p < base.size(); ++p)
-    {
-        const double h = pickupScale_ * base[p];
-        sum += h * h / (mu_ * omega_[p] * omega_[p]);
-    }
-    return sum;
+    return pickups_[second ? 1 : 0].compliance(mu_, omega_);
+}
+
+double ModalSolver::pickupAboveBand(bool second) const
+{
+    return pickups_[second ? 1 : 0].aboveBand(state_);
 }
 
 void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
@@ -398,34 +125,19 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         coeffs[p] = exactCoefficients(omegas[p], sigmas[p], dt_);
         coeffsReleased[p] = exactCoefficients(omegas[p], sigmas[p] + releaseSigma_, dt_);
     }
-    pickupScale_ = pickupScale;
-    setPickupWeights();
-    state_.fillTables(coeffs_, coeffsReleased_, pickupWeights_, pickupWeightsB_);
-    pickup_ = projectPickup(false, pickupPhiW_, pickupPhiE_);
-    if (state_.h2() != nullptr)
-        pickupB_ = projectPickup(true, pickupPhiWB_, pickupPhiEB_);
+    for (auto& pickup : pickups_)
+        pickup.setWeights(omega_, pickupScale);
+    state_.fillTables(coeffs_, coeffsReleased_, pickups_[0].weights(), pickups_[1].weights());
+    for (int k = 0; k < 2; ++k)
+        if (const double* h = activePickupWeights(k))
+            pickups_[size_t(k)].rereadActive(h, state_, pickupForces(), !transform_);
     if (compliance_.active())
     {
         compliance_.rescale(complianceScale, contacts_);
         updateCouplings();
     }
-    computeReach();
-    reachStale_ = true;  // the same motion at another pitch holds another energy
-}
-
-// For a pickup's weights h over the active modes: what a force at each point and at the excitation
-// does to the pickup ((dt^2/mu) w_j h . phi_j, (dt^2/mu) h . phi_e, with the static response of the
-// modes above the pickup band); returns the pickup h . q^n.
-double ModalSolver::projectPickup(bool second, std::vector<double>& phiW, double& phiE) const
-{
-    const double* h = second ? state_.h2() : state_.h();
-    const int Ma = state_.activeCount();
-    for (int j = 0; j < P_ && !transform_; ++j)
-        phiW[size_t(j)] = forceScale_ * contacts_[j].weight
-                        * (kernels::dot(h, state_.phi(j), Ma) + staticPickup(second, shapes_.data() + size_t(j) * M_));
-    if (!excitationShape_.empty())
-        phiE = forceScale_ * (kernels::dot(h, state_.phiE(), Ma) + staticPickup(second, excitationShape_.data()));
-    return kernels::dot(h, state_.q(), Ma);
+    measureReach();
+    reach_.markStale();  // the same motion at another pitch holds another energy
 }
 
 void ModalSolver::updateCouplings()
@@ -441,30 +153,13 @@ void ModalSolver::updateCouplings()
     system_.setCoupling(couplingScratch_);
 }
 
-double ModalSolver::previousAtRest(int p, double q0) const
-{
-    const double back = sigma_[p] * dt_ <= 0.5 ? -dt_ : dt_;  // see setInitialDisplacement()
-    return freeDampedMotion(q0, 0.0, omega_[p], sigma_[p], back);
-}
-
-void ModalSolver::startFrom(const double* modalDisplacement)
-{
-    state_.restartSingle();
-    for (int i = 0; i < state_.activeCount(); ++i)
-    {
-        const int p = state_.activeMode(i);
-        state_.set(i, modalDisplacement[p], previousAtRest(p, modalDisplacement[p]));
-    }
-    restartFromModes();
-}
-
 void ModalSolver::setContact(int j, const ContactLaw& law, double height)
 {
     const bool lawChanged = contacts_[size_t(j)].law.stiffness != law.stiffness
                             || contacts_[size_t(j)].law.exponent != law.exponent;
     if (contacts_[size_t(j)].height != height)
         wakeAll();  // a sleeping point may now be within reach
-    reachStale_ = true;  // and the obstacles' energy is another
+    reach_.markStale();  // and the obstacles' energy is another
     contacts_[size_t(j)].law = law;
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, law);
@@ -485,38 +180,10 @@ void ModalSolver::displacementAt(const double* shapes, int count, double* out)
     }
 }
 
-void ModalSolver::resetToRest()
-{
-    state_.clear();
-    externalForce_ = 0.0;
-    system_.reset();
-    std::fill(uC_.begin(), uC_.end(), 0.0);
-    std::fill(uCPrev_.begin(), uCPrev_.end(), 0.0);
-    wakeAll();
-    compliance_.reset();
-    quadratised_.reset();
-    pickup_ = pickupTilde_ = 0.0;
-    pickupB_ = pickupTildeB_ = 0.0;
-}
-
-void ModalSolver::takeMotionFrom(ModalSolver& other)
-{
-    other.state_.toSingle();
-    state_.toSingle();
-    const double* q = other.state_.q();
-    const double* qPrev = other.state_.qPrev();
-    for (int i = 0; i < state_.activeCount(); ++i)
-    {
-        const int k = other.state_.indexOfMode(state_.activeMode(i));
-        state_.set(i, k >= 0 ? q[k] : 0.0, k >= 0 ? qPrev[k] : 0.0);
-    }
-    restartFromModes();
-}
-
 int ModalSolver::solveContacts()
 {
     if (method_ == ContactMethod::energyConserving)
-        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), liveRows_.data(), liveCount_);
+        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), reach_.liveRows(), reach_.liveCount());
     // The explicit methods start from the penetration at n.
     for (int j = 0; j < P_; ++j)
         penetration_[j] = contacts_[j].height - uC_[j] - compliance_.delta(j);
@@ -537,21 +204,20 @@ void ModalSolver::predictPairStep()
         kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
                           state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(),
                           state_.pickupCount(), pass_);
-        pairPickup_ = pass_.pickup1;
+        pickups_[0].predicted = pass_.pickup1;
         pairU_ = pass_.contact1;
-        pairPickupB_ = pass_.second1;
+        pickups_[1].predicted = pass_.second1;
         return;
     }
-    pairPickup_ = pass_.pickup2 + state_.c1() * state_.sumAPhiH();
+    pickups_[0].predicted = pass_.pickup2 + state_.c1() * state_.sumAPhiH();
     pairU_ = pass_.contact2 + state_.c1() * state_.sumAPhiSquared();
-    pairPickupB_ = pass_.second2 + state_.c1() * state_.sumAPhiH2();
+    pickups_[1].predicted = pass_.second2 + state_.c1() * state_.sumAPhiH2();
 }
 
 // With the point's slope G: u_C^{n+1} = u~ + A f with f = -G, q^{n+1} = q~ + c phi with
 // c = -(dt^2/mu) w G (the layout's correction), and the pickup likewise.
 void ModalSolver::finishPairStep()
 {
-    double y = pairPickup_, yB = pairPickupB_;
     double c = 0.0;
     if (P_ == 1)
     {
@@ -561,11 +227,11 @@ void ModalSolver::finishPairStep()
         compliance_.advance(slope_.data());
         lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
         c = -forceScale_ * contacts_[0].weight * G;
-        y -= pickupPhiW_[0] * G;
-        yB -= pickupPhiWB_[0] * G;
+        for (auto& pickup : pickups_)
+            pickup.press(0, G);
     }
-    pickup_ = y;
-    pickupB_ = yB;
+    for (auto& pickup : pickups_)
+        pickup.value = pickup.predicted;
     if (state_.layout() == ModalState::Layout::pairBoundary)
         state_.setPairMiddle(c);
     else
@@ -589,11 +255,11 @@ int ModalSolver::solveSplines()
 
 void ModalSolver::stepSingle()
 {
-    if (leaveOutOfReach_)
+    if (reach_.enabled())
     {
         if (externalForce_ != 0.0)
             wakeAll();
-        else if (reachStale_ || --stepsToReachCheck_ <= 0)
+        else if (reach_.checkDue())
             refreshReach();
     }
     predictAtPoints();
@@ -601,137 +267,82 @@ void ModalSolver::stepSingle()
     pressing_.clear();
     if (P_ > 0)
     {
-        for (int k = 0; k < liveCount_; ++k)
+        const int* rows = reach_.liveRows();
+        for (int k = 0; k < reach_.liveCount(); ++k)
         {
-            const int j = liveRows_[size_t(k)];
+            const int j = rows[k];
             s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
             b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.deltaPrev(j);
         }
         lastIterations_ = solveContacts();
-        for (int k = 0; k < liveCount_; ++k)
-            if (slope_[liveRows_[size_t(k)]] != 0.0)
-                pressing_.push_back(liveRows_[size_t(k)]);
+        for (int k = 0; k < reach_.liveCount(); ++k)
+            if (slope_[rows[k]] != 0.0)
+                pressing_.push_back(rows[k]);
     }
     if (!pressing_.empty())
         applyContactForces();
     endSingleStep();
 }
 
-// reach_j = sqrt((2/mu) sum_p phi_p(x_j)^2 kappa_p^2) + 2 sqrt(C_jj) for every point, so that a string of
-// energy H has |u_j + delta_j| <= sqrt(H) reach_j. Mode p's share of H^{n-1/2} is
-//   E_p = (mu/2) (C1 (q^n - q^{n-1})^2 / dt^2 + C2 q^n q^{n-1}) = (mu/2) (a D^2 + (C2/4) S^2)
-// with D = q^n - q^{n-1}, S = q^n + q^{n-1}, a = C1/dt^2 - C2/4 (both weights positive for a stable mode),
-// so |q^n| <= (|S| + |D|)/2 <= sqrt(2 E_p / mu) kappa_p, kappa_p = 1/sqrt(C2) + 1/(2 sqrt(a)) (the larger of
-// the two coefficient sets'); Cauchy-Schwarz over the modes gives the first term. The dropped modes'
-// spring holds delta^T C^-1 delta / 4 <= H, so |delta_j| <= 2 sqrt(H C_jj). RT (no allocation).
-void ModalSolver::computeReach()
+void ModalSolver::measureReach()
 {
-    if (!leaveOutOfReach_)
-        return;
-    auto kappa = [&](const ExactModeCoefficients& c) {
-        const double a = c.kineticWeight / (dt_ * dt_) - 0.25 * c.potentialWeight;
-        if (!(c.potentialWeight > 0.0) || !(a > 0.0))
-            return std::numeric_limits<double>::infinity();
-        return 1.0 / std::sqrt(c.potentialWeight) + 0.5 / std::sqrt(a);
-    };
-    // Once per mode (two square roots and two divisions each), not once per point and mode: a note's
-    // start retunes its string, and this loop was most of what that cost.
-    auto& kappas = kappa_.edit();
-    for (int p = 0; p < M_; ++p)
-        kappas[size_t(p)] = std::max(kappa(coeffs_[size_t(p)]), kappa(coeffsReleased_[size_t(p)]));
-    for (int j = 0; j < P_; ++j)
-    {
-        double sum = 0.0;
-        for (int p = 0; p < M_; ++p)
-        {
-            const double k = kappa_[size_t(p)];
-            const double phi = shapes_[size_t(j) * M_ + p];
-            sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
-        }
-        const double spring =
-            compliance_.active() ? std::max(compliance_.complianceW()(j, j) / contacts_[j].weight, 0.0) : 0.0;
-        reach_[size_t(j)] = std::sqrt(2.0 * sum / mu_) + 2.0 * std::sqrt(spring);
-    }
+    reach_.measure(coeffs_, coeffsReleased_, shapes_, dt_, mu_, compliance_, contacts_);
 }
 
-// H^{n-1/2} measured, and the points within sqrt(H) reach_j of their obstacle (5 % spare for the
-// Newton's tolerance) taken into the solve; a point that joins gets its u^n and u^{n-1}.
+// H^{n-1/2} measured: a point that joins gets its u^n and u^{n-1}; one left out, no force.
 void ModalSolver::refreshReach()
 {
-    reachStale_ = false;
-    stepsToReachCheck_ = kReachCheckSteps;
     const double H = stringEnergy() + obstacleEnergy() + compliance_.energy();
-    const double radius = 1.05 * std::sqrt(std::max(H, 0.0));
-    liveCount_ = 0;
-    for (int j = 0; j < P_; ++j)
-    {
-        const bool reachable = !(contacts_[j].height + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
-        if (reachable)
-        {
-            wake(j);
-            liveRows_[size_t(liveCount_++)] = j;
-        }
-        else
-            slope_[j] = 0.0;  // left out of the solve: no force
-        live_[size_t(j)] = reachable;
-    }
-}
-
-// Point j's u^n and u^{n-1} from the state, if it was not live.
-void ModalSolver::wake(int j)
-{
-    if (live_[size_t(j)])
-        return;
-    // Summed as the step's own projections are (kernels::projectRows).
-    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.q(), state_.paddedCount(), uC_.data());
-    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.qPrev(), state_.paddedCount(), uCPrev_.data());
-    live_[size_t(j)] = 1;
+    reach_.refresh(
+        H, contacts_, [this](int j) { projectPoint(j); }, [this](int j) { slope_[size_t(j)] = 0.0; });
 }
 
 void ModalSolver::wakeAll()
 {
-    if (liveCount_ == P_)
-        return;
-    for (int j = 0; j < P_; ++j)
-    {
-        wake(j);
-        liveRows_[size_t(j)] = j;
-    }
-    liveCount_ = P_;
+    reach_.wakeAll([this](int j) { projectPoint(j); });
+}
+
+void ModalSolver::projectPoint(int j)
+{
+    // Summed as the step's own projections are (kernels::projectRows).
+    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.q(), state_.paddedCount(), uC_.data());
+    kernels::projectRows(state_.phi(0), state_.stride(), &j, 1, state_.qPrev(), state_.paddedCount(), uCPrev_.data());
 }
 
 // q~ = a q - e q^{n-1}, written over q^{n-1}, with any explicit force; its pickup and contact
-// projections (pickupTilde_, uTilde_).
+// projections (the pickups' predicted readings, uTilde_).
 void ModalSolver::predictAtPoints()
 {
     double* next = state_.qPrev();
     const int Mpad = state_.paddedCount();
     // The first kMaxFused live points are projected in the prediction's own pass (not with an explicit
     // force, which joins q~ after it), the rest kMaxFused at a time, each sum in the same order.
-    const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(liveCount_, kernels::kMaxFused);
+    const int live = reach_.liveCount();
+    const int* rows = reach_.liveRows();
+    const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(live, kernels::kMaxFused);
+    auto& [first, second] = pickups_;
     if (fused > 0)
-        pickupTilde_ =
-            kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), state_.phi(0),
-                                    state_.stride(), liveRows_.data(), fused, Mpad, state_.pickupCount(),
-                                    uTilde_.data(), pickupTildeB_);
+        first.predicted = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(),
+                                                  state_.phi(0), state_.stride(), rows, fused, Mpad,
+                                                  state_.pickupCount(), uTilde_.data(), second.predicted);
     else
-        pickupTilde_ = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
-                                        state_.pickupCount(), pickupTildeB_);
+        first.predicted = kernels::predict(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(), Mpad,
+                                           state_.pickupCount(), second.predicted);
     if (externalForce_ != 0.0)
     {
         // The explicit point force joins the prediction: q~ += (dt^2/mu) F phi_e.
         kernels::axpy(forceScale_ * externalForce_, state_.phiE(), next, Mpad);
-        pickupTilde_ += externalForce_ * pickupPhiE_;
-        pickupTildeB_ += externalForce_ * pickupPhiEB_;
+        for (auto& pickup : pickups_)
+            pickup.push(externalForce_);
     }
     if (transform_)
     {
         transform_->sample(next, uTilde_.data());
         return;
     }
-    for (int k = fused; k < liveCount_; k += kernels::kMaxFused)
-        kernels::projectRows(state_.phi(0), state_.stride(), liveRows_.data() + k,
-                             std::min(kernels::kMaxFused, liveCount_ - k), next, Mpad, uTilde_.data());
+    for (int k = fused; k < live; k += kernels::kMaxFused)
+        kernels::projectRows(state_.phi(0), state_.stride(), rows + k, std::min(kernels::kMaxFused, live - k), next,
+                             Mpad, uTilde_.data());
 }
 
 // q^{n+1} = q~ + (dt^2/mu) Phi^T W f with f = -G(r); u_C^{n+1} = u~ + A f at the live points, and the
@@ -749,19 +360,18 @@ void ModalSolver::applyContactForces()
         for (int i : pressing_)
             kernels::axpy(-forceScale_ * contacts_[i].weight * slope_[i], state_.phi(i), next, state_.paddedCount());
     const auto& A = stringCoupling_;
-    for (int k = 0; k < liveCount_; ++k)
+    const int* rows = reach_.liveRows();
+    for (int k = 0; k < reach_.liveCount(); ++k)
     {
-        const int j = liveRows_[size_t(k)];
+        const int j = rows[k];
         double Af = 0.0;
         for (int i : pressing_)
             Af -= A(j, i) * slope_[i];
         uTilde_[j] += Af;
     }
     for (int i : pressing_)
-    {
-        pickupTilde_ -= pickupPhiW_[i] * slope_[i];
-        pickupTildeB_ -= pickupPhiWB_[i] * slope_[i];
-    }
+        for (auto& pickup : pickups_)
+            pickup.press(i, slope_[i]);
 }
 
 // The step's end: the compliance, the live points' contact displacements and penetration, q^{n+1} as q.
@@ -770,9 +380,10 @@ void ModalSolver::endSingleStep()
     if (P_ > 0)
         compliance_.advance(slope_.data());
     double deepest = -std::numeric_limits<double>::infinity();  // a local: the stores below may alias a member
-    for (int k = 0; k < liveCount_; ++k)
+    const int* rows = reach_.liveRows();
+    for (int k = 0; k < reach_.liveCount(); ++k)
     {
-        const int j = liveRows_[size_t(k)];
+        const int j = rows[k];
         const double u = uTilde_[j];
         uCPrev_[j] = uC_[j];
         uC_[j] = u;
@@ -780,33 +391,8 @@ void ModalSolver::endSingleStep()
     }
     lastPenetration_ = deepest;
     state_.swapSingle();
-    pickup_ = pickupTilde_;
-    pickupB_ = pickupTildeB_;
-}
-
-void ModalSolver::fullState(std::vector<double>& current, std::vector<double>& previous) const
-{
-    // Active-mode state (q^n, q^{n-1}), whatever the layout.
-    const int Ma = state_.activeCount();
-    current.resize(Ma);
-    previous.resize(Ma);
-    for (int i = 0; i < Ma; ++i)
-    {
-        const ModalState::Mode m = state_.mode(i);
-        current[i] = m.now;
-        previous[i] = m.before;
-    }
-}
-
-std::vector<double> ModalSolver::modalState(bool previous)
-{
-    std::vector<double> current, before;
-    fullState(current, before);
-    std::vector<double> full(M_, 0.0);
-    const auto& src = previous ? before : current;
-    for (int i = 0; i < state_.activeCount(); ++i)
-        full[state_.activeMode(i)] = src[i];
-    return full;
+    for (auto& pickup : pickups_)
+        pickup.value = pickup.predicted;
 }
 
 void ModalSolver::projectActive(const double* qActive, double* u) const

@@ -13,9 +13,12 @@
 //
 // The parts, each in its own file: the active modes and their stepping arrays (ModalState), the
 // contact methods (ContactSystem: the energy-conserving Newton; QuadratisedContact;
-// PenaltyContact), the residual compliance (ResidualCompliance) and the transform (GridTransform).
+// PenaltyContact), the residual compliance (ResidualCompliance), the transform (GridTransform), the
+// pickups' readings (PickupReadout, one per pickup) and the points within the string's reach
+// (ContactReach).
 
 #include "physics/ContactMethod.h"
+#include "physics/ContactReach.h"
 #include "physics/ContactSpline.h"
 #include "physics/ContactSystem.h"
 #include "physics/ExactOscillator.h"
@@ -24,11 +27,13 @@
 #include "physics/ModalState.h"
 #include "physics/Obstacle.h"
 #include "physics/PenaltyContact.h"
+#include "physics/PickupReadout.h"
 #include "physics/QuadratisedContact.h"
 #include "physics/ResidualCompliance.h"
 #include "physics/StampedVector.h"
 #include "physics/StringModel.h"
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -74,7 +79,7 @@ struct ModalSolverConfig
     // Step every mode, even those nothing couples to and that start at rest: the plugin's voices
     // take state across rebuilds (a new pluck or pickup point) and must not drop a ringing mode.
     bool keepEveryMode = false;
-    // Leave the contact points the string cannot reach out of the step (ModalSolver, leaveOutOfReach_);
+    // Leave the contact points the string cannot reach out of the step (ContactReach);
     // off: every point projected and solved every step (the same motion to rounding, at more cost).
     bool leaveOutOfReach = true;
 };
@@ -117,7 +122,7 @@ public:
     void setReleased(bool released)
     {
         state_.useReleased(released);
-        reachStale_ = true;  // the energy is measured with the other coefficient set from now on
+        reach_.markStale();  // the energy is measured with the other coefficient set from now on
     }
     bool released() const { return state_.released(); }
     // RT: the string part of H^{n-1/2} (no contact part), without allocating.
@@ -166,15 +171,15 @@ public:
     // Projection path only.
     int activeModeCount() const { return state_.activeCount(); }
     int contactCount() const { return P_; }
-    // Points the contact solve takes this step: those within the string's reach (see leaveOutOfReach_).
-    int livePointCount() const { return liveCount_; }
-    bool pointLive(int j) const { return live_[size_t(j)] != 0; }
+    // Points the contact solve takes this step: those within the string's reach (ContactReach).
+    int livePointCount() const { return reach_.liveCount(); }
+    bool pointLive(int j) const { return reach_.live(j); }
     bool usesTransform() const { return transform_ != nullptr; }
     double timeStep() const { return dt_; }
     double linearDensity() const { return mu_; }
 
-    double pickup() const { return pickup_; }                       // RT: sum h_p q_p^n
-    double secondPickup() const { return pickupB_; }                // RT: the second pickup's, 0 without one
+    double pickup() const { return pickups_[0].value; }              // RT: sum h_p q_p^n
+    double secondPickup() const { return pickups_[1].value; }        // RT: the second pickup's, 0 without one
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
     double lastMaxPenetration() const { return lastPenetration_; }  // RT: max_j g_j - u_j^n (m)
 
@@ -216,18 +221,13 @@ private:
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
     double contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly) const;
-    void computeReach();
-    void refreshReach();
-    void wakeAll();
-    void wake(int j);
-    double projectPickup(bool second, std::vector<double>& phiW, double& phiE) const;
-    double movingShare(int p) const;  // of mode p, read as it moves (ModalSolverConfig::pickupBandHz)
-    // Sets the pickup weights in use: pickupScale_ times the base ones times each mode's moving share.
-    void setPickupWeights();
-    // sum over the modes above the pickup band of their static share of h_p shape_p / (1 - a_p + e_p):
-    // a force on `shape` held still moves those modes by that much per unit of (dt^2/mu) force, seen
-    // by the pickup.
-    double staticPickup(bool second, const double* shape) const;
+    void measureReach();   // RT: ContactReach::measure() with the solver's tables
+    void refreshReach();   // RT: H measured, the live points chosen afresh
+    void wakeAll();        // RT: every point live
+    void projectPoint(int j);  // RT: point j's u^n and u^{n-1} from the state
+    PickupReadout::Forces pickupForces() const { return {shapes_, excitationShape_, contacts_, forceScale_, coeffs_}; }
+    // The stepping arrays' weights of pickup k over the active modes (null: no such pickup).
+    const double* activePickupWeights(int k) const { return k == 0 ? state_.h() : state_.h2(); }
     void updateCouplings();  // RT: the coupling matrices after the compliance was rescaled
 
     int M_ = 0;  // modes of the model
@@ -239,27 +239,21 @@ private:
     StampedVector<ExactModeCoefficients> coeffs_;          // all M modes
     StampedVector<ExactModeCoefficients> coeffsReleased_;  // all M modes, releaseSigma added
     double releaseSigma_ = 0.0;
-    StampedVector<double> basePickupWeights_, basePickupWeightsB_;
-    double pickupScale_ = 1.0;
-    double pickupBandOmega_ = 0.0;  // rad/s; 0: every mode
-    // The part of each pickup weight read statically, (1 - moving share) pickupScale_ h_p; empty
-    // without a pickup band (staticWeightsB_ also without a second pickup).
-    StampedVector<double> staticWeights_, staticWeightsB_;
-    StampedVector<double> omega_, sigma_, pickupWeights_, pickupWeightsB_;  // B: the second pickup's
+    StampedVector<double> omega_, sigma_;
     StampedVector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
     StampedVector<char> coupled_;            // mode p touches some contact point
     StampedVector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
 
+    // The prediction q~ = a q^n - e q^{n-1} (with an explicit force), and what the pickups read of it.
     ModalState state_;
     double externalForce_ = 0.0;  // N
-    double pickupPhiE_ = 0.0;     // (dt^2/mu) h . phi_e
-    double pickupPhiEB_ = 0.0;    // the second pickup's
+    // The pickups' readings (the first: the left channel's; the second: the right's, or none).
+    std::array<PickupReadout, 2> pickups_;
     kernels::PairReadout pass_;  // the last paired pass's projections of both its steps
-    double pairU_ = 0.0, pairPickup_ = 0.0;  // the paired step's contact-free u~ and pickup
-    double pairPickupB_ = 0.0;  // the second pickup's
+    double pairU_ = 0.0;         // the paired step's contact-free u~
 
-    std::vector<double> pickupPhiW_;   // (dt^2/mu) w_j (h . phi_j)
-    std::vector<double> pickupPhiWB_;  // the second pickup's
+    // The contact at the points: r + A G(r) = Phi q~ - u_C^{n-1}, with the dropped modes' spring in series
+    // (A + C W), solved by the configured method over the points within reach.
     Eigen::MatrixXd stringCoupling_;   // A = (dt^2/mu) Phi Phi^T W: the string's response at the points
     Eigen::MatrixXd couplingScratch_;  // A + C W, rebuilt on the audio thread by a retune
     Eigen::MatrixXd pointCoupling_;    // (A + C W) W^{-1}: response at the points per newton
@@ -268,32 +262,15 @@ private:
     ContactSystem system_;  // the energy-conserving Newton
     QuadratisedContact quadratised_;
     std::vector<ContactSpline> splines_;  // per point, the quadratic-spline method's potential
+    // u_C^n, u_C^{n-1}, u~ at the points; the equation's s and b, its solution r and slope G(r).
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_, penetration_, pointForce_;
     std::vector<ContactPoint> contacts_;
     OwnedGridTransform transform_;
-    double pickup_ = 0.0;
-    double pickupTilde_ = 0.0;
-    double pickupB_ = 0.0, pickupTildeB_ = 0.0;  // the second pickup's
     int lastIterations_ = 0;
     double lastPenetration_ = 0.0;
-
-    // Points out of reach. With the energy-conserving Newton and no external force the energy H never
-    // rises, and a string of energy H has |u_j + delta_j| <= sqrt(H) reach_j at every point (see
-    // computeReach), so a point whose obstacle lies further below than sqrt(H) reach_j cannot touch
-    // until H is measured again: it is neither projected nor solved (its s is -infinity, infinitely
-    // clear). H is measured every kReachCheckSteps steps, and at once after anything that can raise
-    // it (a retune, a new height or law, the release, a new state); an external force keeps every
-    // point live.
-    static constexpr int kReachCheckSteps = 512;
-    bool leaveOutOfReach_ = false;
-    std::vector<double> reach_;   // per point, m per sqrt(J)
-    StampedVector<double> kappa_;   // per mode, computeReach's kappa_p
-    std::vector<char> live_;      // per point
-    std::vector<int> liveRows_;   // the live points, ascending (the first liveCount_ entries)
-    std::vector<int> pressing_;   // the points with a force this step
-    int liveCount_ = 0;
-    int stepsToReachCheck_ = 0;
-    bool reachStale_ = true;
+    ContactReach reach_;         // the points the step takes
+    // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
+    std::vector<int> pressing_;
 };
 
 }  // namespace jawari

@@ -71,29 +71,9 @@ ModalState& ModalState::operator=(const ModalState& other)
         return *this;
     const bool sameTables = tablesStamp_ != 0 && tablesStamp_ == other.tablesStamp_
                             && storage_.size() == other.storage_.size();
-    M_ = other.M_;
-    Ma_ = other.Ma_;
-    Mpad_ = other.Mpad_;
-    stride_ = other.stride_;
-    pickupCount_ = other.pickupCount_;
-    contactCount_ = other.contactCount_;
-    pairable_ = other.pairable_;
+    static_cast<ModalStateScalars&>(*this) = other;
     if (!sameTables)
-    {
-        active_ = other.active_;
-        indexOfMode_ = other.indexOfMode_;
-        activeNormal_ = other.activeNormal_;
-        activeReleased_ = other.activeReleased_;
-    }
-    tablesStamp_ = other.tablesStamp_;
-    hasSecondPickup_ = other.hasSecondPickup_;
-    layout_ = other.layout_;
-    c1_ = other.c1_;
-    c2_ = other.c2_;
-    std::copy(std::begin(other.sumAPhiSquared_), std::end(other.sumAPhiSquared_), sumAPhiSquared_);
-    std::copy(std::begin(other.sumAPhiH_), std::end(other.sumAPhiH_), sumAPhiH_);
-    std::copy(std::begin(other.sumAPhiH2_), std::end(other.sumAPhiH2_), sumAPhiH2_);
-    released_ = other.released_;
+        static_cast<ModalStateTables&>(*this) = other;
     copyArraysFrom(other, sameTables);
     return *this;
 }
@@ -134,11 +114,18 @@ void ModalState::copyArraysFrom(const ModalState& other, bool stateOnly)
     }
     else
         std::copy(from, from + (other.storage_.size() - 8), to);
-    for (double* ModalState::*array : {&ModalState::a_, &ModalState::e_, &ModalState::aNormal_, &ModalState::eNormal_,
-                                        &ModalState::aReleased_, &ModalState::eReleased_, &ModalState::h_,
-                                        &ModalState::h2_, &ModalState::phiE_, &ModalState::phi_, &ModalState::q_,
-                                        &ModalState::qPrev_, &ModalState::settled_})
-        this->*array = other.*array == nullptr ? nullptr : to + (other.*array - from);
+    static constexpr double* ModalStateArrays::*kArrays[] = {
+        &ModalStateArrays::a_,       &ModalStateArrays::e_,         &ModalStateArrays::aNormal_,
+        &ModalStateArrays::eNormal_, &ModalStateArrays::aReleased_, &ModalStateArrays::eReleased_,
+        &ModalStateArrays::h_,       &ModalStateArrays::h2_,        &ModalStateArrays::phiE_,
+        &ModalStateArrays::phi_,     &ModalStateArrays::q_,         &ModalStateArrays::qPrev_,
+        &ModalStateArrays::settled_};
+    static_assert(sizeof(ModalStateArrays) == std::size(kArrays) * sizeof(double*),
+                  "every pointer of ModalStateArrays is rebased here");
+    ModalStateArrays& mine = *this;
+    const ModalStateArrays& theirs = other;
+    for (double* ModalStateArrays::*array : kArrays)
+        mine.*array = theirs.*array == nullptr ? nullptr : to + (theirs.*array - from);
 }
 
 void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,

@@ -25,7 +25,58 @@
 namespace jawari
 {
 
-class ModalState
+enum class ModalLayout
+{
+    single,
+    pairBoundary,
+    pairMiddle
+};
+
+// ModalState's members in three groups, each copied as a whole by ModalState::operator= (so a member
+// added to a group cannot be left out of the copy): the scalars, always; the tables over the active
+// modes, unless the copy has them already; the pointers into the arrays, rebased.
+struct ModalStateScalars
+{
+    int M_ = 0;     // modes of the model
+    int Ma_ = 0;    // modes stepped (active)
+    int Mpad_ = 0;  // Ma_ rounded up to the kernels' block
+    int stride_ = 0;
+    int pickupCount_ = 0;
+    int contactCount_ = 0;
+    bool pairable_ = false;
+    bool hasSecondPickup_ = false;
+    ModalLayout layout_ = ModalLayout::single;
+    double c1_ = 0.0, c2_ = 0.0;
+    double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0}, sumAPhiH2_[2] = {0.0, 0.0};  // per damping set
+    uint64_t tablesStamp_ = 0;  // new at each compact() and fillTables() (StampedVector.h)
+    bool released_ = false;
+};
+
+struct ModalStateTables
+{
+    std::vector<int> active_;
+    std::vector<int> indexOfMode_;  // active index of mode p, or -1
+    std::vector<ExactModeCoefficients> activeNormal_, activeReleased_;
+};
+
+struct ModalStateArrays  // into ModalState's storage, 64-byte aligned, stride_ apart
+{
+    double* a_ = nullptr;  // the coefficient set in use (normal or released)
+    double* e_ = nullptr;
+    double* aNormal_ = nullptr;
+    double* eNormal_ = nullptr;
+    double* aReleased_ = nullptr;
+    double* eReleased_ = nullptr;
+    double* h_ = nullptr;
+    double* h2_ = nullptr;
+    double* phiE_ = nullptr;  // excitation shape over the active modes
+    double* phi_ = nullptr;   // contact rows, stride_ apart (none on the DST path)
+    double* q_ = nullptr;
+    double* qPrev_ = nullptr;
+    double* settled_ = nullptr;
+};
+
+class ModalState : private ModalStateScalars, private ModalStateTables, private ModalStateArrays
 {
 public:
     ModalState() = default;
@@ -36,12 +87,7 @@ public:
     // fillTables() since), only the state arrays and the scalars are copied.
     ModalState& operator=(const ModalState& other);
 
-    enum class Layout
-    {
-        single,
-        pairBoundary,
-        pairMiddle
-    };
+    using Layout = ModalLayout;
     struct Mode
     {
         double now = 0.0;     // q^n
@@ -132,36 +178,7 @@ private:
     // The arrays' values (with stateOnly, q, qPrev and settled only), every pointer rebased.
     void copyArraysFrom(const ModalState& other, bool stateOnly);
 
-    int M_ = 0;     // modes of the model
-    int Ma_ = 0;    // modes stepped (active)
-    int Mpad_ = 0;  // Ma_ rounded up to the kernels' block
-    int stride_ = 0;
-    int pickupCount_ = 0;
-    int contactCount_ = 0;
-    bool pairable_ = false;
-    std::vector<int> active_;
-    std::vector<int> indexOfMode_;  // active index of mode p, or -1
-    std::vector<ExactModeCoefficients> activeNormal_, activeReleased_;
-    std::vector<double> storage_;
-    double* a_ = nullptr;  // the coefficient set in use (normal or released)
-    double* e_ = nullptr;
-    double* aNormal_ = nullptr;
-    double* eNormal_ = nullptr;
-    double* aReleased_ = nullptr;
-    double* eReleased_ = nullptr;
-    double* h_ = nullptr;
-    double* h2_ = nullptr;
-    bool hasSecondPickup_ = false;
-    double* phiE_ = nullptr;  // excitation shape over the active modes
-    double* phi_ = nullptr;   // contact rows, stride_ apart (none on the DST path)
-    double* q_ = nullptr;
-    double* qPrev_ = nullptr;
-    double* settled_ = nullptr;
-    Layout layout_ = Layout::single;
-    double c1_ = 0.0, c2_ = 0.0;
-    double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0}, sumAPhiH2_[2] = {0.0, 0.0};  // per damping set
-    uint64_t tablesStamp_ = 0;  // new at each compact() and fillTables() (StampedVector.h)
-    bool released_ = false;
+    std::vector<double> storage_;  // the arrays (ModalStateArrays point into it)
 };
 
 }  // namespace jawari

@@ -84,8 +84,8 @@ Voice::Voice(const VoiceConfig& config)
 {}
 
 Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
-    : solver_(solverConfig)
-    , decimator_(config.ownDecimator ? config.oversampling : 1, config.hostRateHz)
+    : VoiceMotion(Decimator(config.ownDecimator ? config.oversampling : 1, config.hostRateHz))
+    , solver_(solverConfig)
     , oversampling_(config.oversampling)
     , hostRate_(config.hostRateHz)
     , quantity_(config.quantity)
@@ -276,15 +276,8 @@ void Voice::takeMotionFrom(Voice& other)
 {
     solver_.takeMotionFrom(other.solver_);
     solver_.setReleased(other.solver_.released());
-    pickup_ = other.pickup_;
-    secondPickup_ = other.secondPickup_;
-    secondSample_ = other.secondSample_;
-    first_ = other.first_;
-    pulseStep_ = other.pulseStep_;
-    pulsePeak_ = other.pulsePeak_;
-    decimator_ = other.decimator_;  // same factor and length: a copy of equal-sized vectors, no allocation
-    primeDecimator_ = other.primeDecimator_;
-    energyCeiling_ = other.energyCeiling_;
+    // The decimators have the same factor and length: a copy of equal-sized vectors, no allocation.
+    static_cast<VoiceMotion&>(*this) = other;
     if (pulseStep_ >= 0)
         runawayLimit_ = std::numeric_limits<double>::infinity();
     else if (energyCeiling_ > 0.0)

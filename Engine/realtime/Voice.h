@@ -16,6 +16,7 @@
 
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace jawari
@@ -60,7 +61,41 @@ struct VoiceConfig
     std::function<double(double)> reach;
 };
 
-class Voice
+// A voice's motion beyond its solver's: what Voice::takeMotionFrom() carries over to a voice of the
+// same string, copied as a whole (a member added here cannot be left out of that copy).
+struct VoiceMotion
+{
+    // The stream of one pickup: sample n is the string at t = n dt (displacement), or the centred
+    // difference around it (velocity).
+    struct PickupStream
+    {
+        double y = 0.0, previous = 0.0;
+        void start(double value) { y = previous = value; }
+        double advance(double next, PickupQuantity quantity, double dt)
+        {
+            const double sample = quantity == PickupQuantity::velocity ? (next - previous) / (2.0 * dt) : y;
+            previous = y;
+            y = next;
+            return sample;
+        }
+    };
+
+    explicit VoiceMotion(Decimator decimator)
+        : decimator_(std::move(decimator))
+    {}
+
+    Decimator decimator_;
+    PickupStream pickup_, secondPickup_;
+    double secondSample_ = 0.0;
+    bool first_ = true;
+    bool primeDecimator_ = false;  // the next host sample's first internal sample fills the history
+    // Pluck pulse: the step within it, or -1 when none is running.
+    long pulseStep_ = -1;
+    double pulsePeak_ = 0.0;
+    double energyCeiling_ = 0.0;  // the most energy the string has legitimately had (blowUps())
+};
+
+class Voice : private VoiceMotion
 {
 public:
     explicit Voice(const VoiceConfig& config);  // OFF
@@ -137,20 +172,6 @@ public:
     ModalSolver& solver() { return solver_; }
 
 private:
-    // The stream of one pickup: sample n is the string at t = n dt (displacement), or the centred
-    // difference around it (velocity).
-    struct PickupStream
-    {
-        double y = 0.0, previous = 0.0;
-        void start(double value) { y = previous = value; }
-        double advance(double next, PickupQuantity quantity, double dt)
-        {
-            const double sample = quantity == PickupQuantity::velocity ? (next - previous) / (2.0 * dt) : y;
-            previous = y;
-            y = next;
-            return sample;
-        }
-    };
     double nextInternalSample();
     void beforeStep();        // the pluck pulse's force and the stream's first sample
     double sampleAfterStep();  // the step's output sample and statistics
@@ -158,26 +179,17 @@ private:
     double guarded(double sample);
 
     ModalSolver solver_;
-    Decimator decimator_;
     int oversampling_ = 1;
     double hostRate_ = 48000.0;
     PickupQuantity quantity_ = PickupQuantity::displacement;
     double dt_ = 0.0;
     double lengthMetres_ = 1.0;
     std::vector<double> block_;  // one host sample's internal samples
-    PickupStream pickup_, secondPickup_;
-    double secondSample_ = 0.0;
-    bool first_ = true;
-    bool primeDecimator_ = false;  // the next host sample's first internal sample fills the history
-    // Pluck pulse: the step within it, or -1 when none is running.
-    long pulseStep_ = -1;
-    long pulseSteps_ = 0;
-    double pulsePeak_ = 0.0;
+    long pulseSteps_ = 0;  // the pluck pulse's length
     double pluckForce_ = 0.0;
     long blowUps_ = 0;
     double runawayLimit_ = 1.0;
     double pickupCompliance_ = 0.0;
-    double energyCeiling_ = 0.0;
     void raiseCeiling();
     int maxIterations_ = 0;
     long iterationCount_ = 0;
