@@ -81,7 +81,7 @@ constexpr Control kImmediateControls[] = {
 };
 constexpr size_t kDroneFineTunings = std::tuple_size_v<decltype(kDefaults.droneFineCents)>;
 constexpr ControlArray<kDroneFineTunings> kDroneFineCents{&Controls::droneFineCents,
-                                                     {.lowest = -100.0, .highest = 100.0, .fallback = 0.0}};
+                                                          {.lowest = -100.0, .highest = 100.0, .fallback = 0.0}};
 constexpr ControlRule kGain{.glide = true, .tolerance = 1e-6};
 
 template <size_t N>

@@ -49,7 +49,7 @@ public:
     void setTarget(const InstrumentControls& controls) { target_ = controls; }  // RT
     const InstrumentControls& target() const { return target_; }
     const InstrumentControls& current() const { return current_; }  // every value playable
-    double gain() const { return gain_; }  // linear, smoothed
+    double gain() const { return gain_; }                           // linear, smoothed
 
     // One chunk with the 20 ms one-pole's step k over it (1: every control lands). RT.
     ControlChanges advance(double k);

@@ -112,8 +112,7 @@ void Instrument::mixStrings(const Sounding& sounding, int count, double gainStar
     std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + internal, 0.0);
     std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + internal, 0.0);
     for (int k = 0; k < sounding.count; ++k)
-        mixString(sounding.slots[size_t(k)], sounding.blocks[size_t(k)], sounding.seconds[size_t(k)], count,
-                  gainStart);
+        mixString(sounding.slots[size_t(k)], sounding.blocks[size_t(k)], sounding.seconds[size_t(k)], count, gainStart);
 }
 
 // One string's chunk at the internal rate (block), panned and added into the mix with the gain ramp
@@ -131,8 +130,8 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
     const auto& c = controls_.current();
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
     // A MIDI string sits by its pitch: hard left at C3 and below, hard right at C7 and above, scaled by the width.
-    const double pan = slot < kMidiVoices ? c.stereoWidth * std::clamp((strings_.pitchNow(slot) - 72.0) / 24.0, -1.0, 1.0)
-                                          : s.pan;
+    const double pan =
+        slot < kMidiVoices ? c.stereoWidth * std::clamp((strings_.pitchNow(slot) - 72.0) / 24.0, -1.0, 1.0) : s.pan;
     const double panLeft = level * std::sqrt(0.5 * (1.0 - pan)), panRight = level * std::sqrt(0.5 * (1.0 + pan));
     const double outputScale = pack_->outputScale;
     const int os = pack_->oversampling;
@@ -249,7 +248,8 @@ void Instrument::publishSnapshot()
     {
         snap.shape[size_t(k)] = static_cast<float>(u[size_t(k)]);
         snap.horizontal[size_t(k)] = static_cast<float>(h[size_t(k)]);
-        snap.obstacle[size_t(k)] = static_cast<float>(pack_->drawObstacle[size_t(k)] + controls_.current().obstacleHeight);
+        snap.obstacle[size_t(k)] =
+            static_cast<float>(pack_->drawObstacle[size_t(k)] + controls_.current().obstacleHeight);
     }
     snap.energy = static_cast<float>(total);
     snap.penetration = static_cast<float>(chunkPenetration_);

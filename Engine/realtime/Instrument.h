@@ -47,7 +47,7 @@ enum class StringScheduling
 // What the editor draws, published by the audio thread without locks (SnapshotBuffer).
 struct InstrumentSnapshot
 {
-    std::array<float, kDrawPoints> shape{};     // the loudest string's displacement (m): its vertical
+    std::array<float, kDrawPoints> shape{};       // the loudest string's displacement (m): its vertical
     std::array<float, kDrawPoints> horizontal{};  // its horizontal polarisation's (m), 0 with one
     bool twoPolarisations = false;
     std::array<float, kDrawPoints> obstacle{};  // obstacle height (m) or NaN where none
@@ -86,9 +86,9 @@ public:
     void channelPressure(int channel, double amount) { expression_.channelPressure(channel, amount); }
     void channelSlide(int channel, double amount) { expression_.channelSlide(channel, amount); }
     static constexpr double kPressureHeightMetres = NoteExpression::kPressureHeightMetres;
-    void sustain(bool down) { notes_.sustain(down); }                      // RT
-    void pitchBend(double amount) { expression_.pitchBend(amount); }     // RT, -1..1 of the bend range
-    void allNotesOff() { notes_.allNotesOff(); }                         // RT: every MIDI string released
+    void sustain(bool down) { notes_.sustain(down); }                 // RT
+    void pitchBend(double amount) { expression_.pitchBend(amount); }  // RT, -1..1 of the bend range
+    void allNotesOff() { notes_.allNotesOff(); }                      // RT: every MIDI string released
     void setControls(const InstrumentControls& controls) { controls_.setTarget(controls); }  // RT
     // RT: the smoothed controls (obstacle, gain) jump to their targets: where playback starts
     // there is nothing to glide from.

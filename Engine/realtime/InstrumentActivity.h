@@ -7,10 +7,10 @@ namespace jawari
 // its slowest blocks with it). RT: plain counters.
 struct InstrumentActivity
 {
-    int notesStarted = 0;   // strings started from rest (a held shape)
-    int pulses = 0;         // strings re-plucked while sounding (a force pulse)
+    int notesStarted = 0;  // strings started from rest (a held shape)
+    int pulses = 0;        // strings re-plucked while sounding (a force pulse)
     int dronePlucks = 0;
-    int retunes = 0;        // strings retuned (a note's start, a bend, new damping)
+    int retunes = 0;  // strings retuned (a note's start, a bend, new damping)
     int packsInstalled = 0;
     long newtonIterations = 0;  // contact solve iterations, all strings
     int mostIterations = 0;     // the most in one step

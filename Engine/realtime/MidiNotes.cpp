@@ -13,7 +13,7 @@ namespace jawari
 void MidiNotes::startKey(int slot, int note, double velocity, int channel)
 {
     const double pitch = note >= 0 && note < kMidiNotes ? controls_.target().keyPitches[size_t(note)]
-                                                         : std::numeric_limits<double>::quiet_NaN();
+                                                        : std::numeric_limits<double>::quiet_NaN();
     if (std::isfinite(pitch))
         strings_.start(slot, note, pitch, velocity, channel);
 }

@@ -13,7 +13,10 @@ namespace jawari
 class MidiNotes
 {
 public:
-    MidiNotes(StringSlots& strings, const SmoothedControls& controls) : strings_(strings), controls_(controls) {}
+    MidiNotes(StringSlots& strings, const SmoothedControls& controls)
+        : strings_(strings)
+        , controls_(controls)
+    {}
 
     // Velocity 0..1 (0 is a note off). `channel`: the note's MPE channel (1..16), whose expression
     // it follows, or 0. The key plays the pitch the controls' keyPitches give it; an unmapped key

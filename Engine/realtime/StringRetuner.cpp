@@ -7,9 +7,10 @@ namespace jawari
 {
 
 StringRetuner::StringRetuner(const StringParameters& string, int modes)
-    : string_(string), builtTension_(string.tensionNewtons), sigma_(size_t(modes), 0.0)
-{
-}
+    : string_(string)
+    , builtTension_(string.tensionNewtons)
+    , sigma_(size_t(modes), 0.0)
+{}
 
 void StringRetuner::retune(Voice& voice, double ratio, const InstrumentControls& controls, double dampingFactor)
 {
@@ -22,8 +23,8 @@ void StringRetuner::retune(Voice& voice, double ratio, const InstrumentControls&
     for (size_t p = 0; p < sigma_.size(); ++p)
     {
         const double fp = ratio * f[p];
-        sigma_[p] = scale * dampingCurveAt(controls.dampingCurve, fp) * std::numbers::pi * fp
-                    * valetteInverseQ(string_, fp);
+        sigma_[p] =
+            scale * dampingCurveAt(controls.dampingCurve, fp) * std::numbers::pi * fp * valetteInverseQ(string_, fp);
     }
     voice.retune(ratio, sigma_.data());
 }

@@ -7,15 +7,17 @@ namespace jawari
 {
 namespace
 {
-constexpr double kFadeSeconds = 0.005;                              // a stolen string fades out over this
-constexpr int kRetuneChunks = 4;                                    // a moving bend retunes every 4 chunks (128 samples)
+constexpr double kFadeSeconds = 0.005;  // a stolen string fades out over this
+constexpr int kRetuneChunks = 4;        // a moving bend retunes every 4 chunks (128 samples)
 constexpr double kPluckMetresPerVelocity = 1.5e-3 * 127.0 / 100.0;  // MIDI velocity 100: 1.5 mm
 constexpr double kDronePans[kDroneStrings] = {-0.6, -0.2, 0.2, 0.6};
 }  // namespace
 
 StringSlots::StringSlots(const SmoothedControls& controls, const NoteExpression& expression,
                          InstrumentActivity& activity)
-    : controls_(controls), expression_(expression), activity_(activity)
+    : controls_(controls)
+    , expression_(expression)
+    , activity_(activity)
 {
     for (int i = 0; i < kDroneStrings; ++i)
         slots_[size_t(kMidiVoices + i)].pan = kDronePans[i];

@@ -65,8 +65,8 @@ struct VoicePack
     // samples each).
     std::vector<Decimator> decimators;  // left, right
     std::vector<double> mixLeft, mixRight;
-    std::vector<double> stringBlocks;   // kSlots chunks at the internal rate: each string's, before the mix
-    std::vector<double> secondBlocks;   // the same from each string's second pickup (the right channel)
+    std::vector<double> stringBlocks;  // kSlots chunks at the internal rate: each string's, before the mix
+    std::vector<double> secondBlocks;  // the same from each string's second pickup (the right channel)
     // A second core's share (StringWorker): each slot's backup of its voice (a copy the audio thread
     // steps when the worker is late), and the blocks the worker steps the voice into.
     std::vector<std::unique_ptr<Voice>> backups;
