@@ -3,7 +3,7 @@
 // the engine's InstrumentStructure (rebuilt off the audio thread) and InstrumentControls (applied
 // on the audio thread, smoothed).
 
-#include "realtime/Instrument.h"
+#include "realtime/InstrumentSettings.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 

@@ -1,5 +1,7 @@
 #include "realtime/PlayableStructure.h"
 
+#include "realtime/Quality.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>

@@ -4,7 +4,7 @@
 // a structure with every field finite and inside what the solver, the obstacles and the decimator
 // take: a bad value never reaches a constructor that would refuse it.
 
-#include "realtime/Instrument.h"
+#include "realtime/InstrumentSettings.h"
 
 namespace jawari
 {

@@ -1,7 +1,8 @@
 // A VoicePack: everything built OFF the audio thread for one InstrumentStructure (the string, its
 // obstacles on their contact points, the quality, twelve voices, the drawing tables, the decimators).
 
-#include "realtime/Instrument.h"
+#include "realtime/VoicePack.h"
+
 #include "realtime/PlayableStructure.h"
 
 #include <algorithm>
@@ -143,17 +144,16 @@ VoiceQuality instrumentQuality(const InstrumentStructure& s)
     return resolveQuality(settings[size_t(q)], instrumentString(s), s.hostRateHz);
 }
 
-std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
+namespace
 {
-    const InstrumentStructure structure = playableStructure(requested);
-    auto pack = std::make_unique<VoicePack>();
-    pack->structure = structure;
-    pack->string = instrumentString(structure);
-    const auto quality = instrumentQuality(structure);
+// The voices' configuration for a structure, at its quality.
+VoiceConfig voiceConfig(const InstrumentStructure& structure, const StringParameters& string,
+                        const VoiceQuality& quality)
+{
     VoiceConfig config;
-    config.string = pack->string;
+    config.string = string;
     config.obstacles = instrumentObstacles(structure, ContactLaw{}, 0.0);
-    const double L = pack->string.lengthMetres;
+    const double L = string.lengthMetres;
     config.excitationPosition = clampFraction(structure.pluckPosition) * L;
     config.pickupPosition = clampFraction(structure.pickupPosition) * L;
     config.secondPickupPosition = secondPickupFraction(structure.pickupPosition) * L;
@@ -170,6 +170,62 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
     config.keepEveryMode = true;
     config.ownDecimator = false;  // mixed at the internal rate, then decimated per channel
     config.secondPolarisation = instrumentSecondPolarisation(structure);
+    return config;
+}
+
+// The obstacles' heights at height 0 at the drawing points (NaN where there is none).
+std::vector<double> drawingObstacle(const std::vector<Obstacle>& obstacles, double L)
+{
+    std::vector<double> heights(kDrawPoints, std::numeric_limits<double>::quiet_NaN());
+    for (const auto& o : obstacles)
+    {
+        if (o.isDistributed())
+        {
+            for (int k = 0; k < kDrawPoints; ++k)
+            {
+                const double x = L * k / (kDrawPoints - 1);
+                if (x >= o.supportBegin() && x <= o.supportEnd())
+                    heights[size_t(k)] = o.heightAt(x);
+            }
+        }
+        else
+        {
+            const int k =
+                std::clamp(static_cast<int>(std::lround(o.position / L * (kDrawPoints - 1))), 0, kDrawPoints - 1);
+            heights[size_t(k)] = o.height;
+        }
+    }
+    return heights;
+}
+
+// The chunk's buffers, the decimators and each voice's backup for the second core.
+void allocateMixing(VoicePack& pack, const VoiceConfig& config, const ModalSolverConfig& solverConfig)
+{
+    pack.decimators.assign(2, Decimator(pack.oversampling, pack.structure.hostRateHz));
+    pack.latencySamples = pack.decimators.front().latencyHostSamples();
+    const size_t chunkSteps = size_t(kChunkSamples) * size_t(pack.oversampling);
+    pack.mixLeft.assign(chunkSteps, 0.0);
+    pack.mixRight.assign(chunkSteps, 0.0);
+    pack.stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    pack.secondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    // Built as the voices are (not copied from them): the same reserved capacities, so copying a
+    // voice into its backup never allocates.
+    for (int i = 0; i < kSlots; ++i)
+        pack.backups.push_back(std::make_unique<Voice>(config, solverConfig));
+    pack.workerBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    pack.workerSecondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+}
+}  // namespace
+
+std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
+{
+    const InstrumentStructure structure = playableStructure(requested);
+    auto pack = std::make_unique<VoicePack>();
+    pack->structure = structure;
+    pack->string = instrumentString(structure);
+    const auto quality = instrumentQuality(structure);
+    const VoiceConfig config = voiceConfig(structure, pack->string, quality);
+    const double L = pack->string.lengthMetres;
     const ModalSolverConfig solverConfig = voiceSolverConfig(config);
     for (int i = 0; i < kSlots; ++i)
         pack->voices.push_back(std::make_unique<Voice>(config, solverConfig));
@@ -177,7 +233,7 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
     const int N = solverConfig.modes.size();
     pack->modes = N;
     pack->baseFundamentalHz = verticalFundamentalHz(solverConfig, quality.modes);
-    pack->sigma.assign(size_t(kSlots) * N, 0.0);
+    pack->retuner = StringRetuner(pack->string, N);
     pack->drawShapes = drawingShapes(solverConfig, L, quality.modes);
     if (config.secondPolarisation)
     {
@@ -186,39 +242,9 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
         horizontal.secondPolarisation->excitationAngle = std::numbers::pi / 2;
         pack->drawHorizontal = drawingShapes(voiceSolverConfig(horizontal), L, quality.modes);
     }
-    pack->drawObstacle.assign(kDrawPoints, std::numeric_limits<double>::quiet_NaN());
-    for (const auto& o : config.obstacles)
-    {
-        if (o.isDistributed())
-        {
-            for (int k = 0; k < kDrawPoints; ++k)
-            {
-                const double x = L * k / (kDrawPoints - 1);
-                if (x >= o.supportBegin() && x <= o.supportEnd())
-                    pack->drawObstacle[size_t(k)] = o.heightAt(x);
-            }
-        }
-        else
-        {
-            const int k =
-                std::clamp(static_cast<int>(std::lround(o.position / L * (kDrawPoints - 1))), 0, kDrawPoints - 1);
-            pack->drawObstacle[size_t(k)] = o.height;
-        }
-    }
+    pack->drawObstacle = drawingObstacle(config.obstacles, L);
     pack->oversampling = quality.oversampling;
-    pack->decimators.assign(2, Decimator(quality.oversampling, structure.hostRateHz));
-    pack->latencySamples = pack->decimators.front().latencyHostSamples();
-    const size_t chunkSteps = size_t(Instrument::kChunk) * size_t(quality.oversampling);
-    pack->mixLeft.assign(chunkSteps, 0.0);
-    pack->mixRight.assign(chunkSteps, 0.0);
-    pack->stringBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
-    pack->secondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
-    // Built as the voices are (not copied from them): the same reserved capacities, so copying a
-    // voice into its backup never allocates.
-    for (int i = 0; i < kSlots; ++i)
-        pack->backups.push_back(std::make_unique<Voice>(config, solverConfig));
-    pack->workerBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
-    pack->workerSecondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
+    allocateMixing(*pack, config, solverConfig);
     auto pickupSine = [](double fraction) { return std::max(std::sin(std::numbers::pi * fraction), 0.02); };
     const double sine = pickupSine(clampFraction(structure.pickupPosition));
     pack->outputScale = 120.0 / sine;

@@ -1,0 +1,41 @@
+#pragma once
+// The eight MIDI strings (the first slots): keys on and off, the sustain pedal, and voice
+// stealing: with every string busy a new note takes the quietest released string, else the oldest
+// held one, which fades out first (StringSlot::fade) and then starts the pending note from rest.
+// RT throughout: no allocation.
+
+#include "realtime/InstrumentSettings.h"
+#include "realtime/StringSlots.h"
+
+namespace jawari
+{
+
+class MidiNotes
+{
+public:
+    MidiNotes(StringSlots& strings, const SmoothedControls& controls)
+        : strings_(strings)
+        , controls_(controls)
+    {}
+
+    // Velocity 0..1 (0 is a note off). `channel`: the note's MPE channel (1..16), whose expression
+    // it follows, or 0. The key plays the pitch the controls' keyPitches give it; an unmapped key
+    // does not sound. The same note on the same channel plucks its string again.
+    void noteOn(int note, double velocity, int channel);
+    void noteOff(int note, int channel);
+    void sustain(bool down);
+    void allNotesOff();  // every MIDI string released, the pedal up
+    // After a chunk's mix: each stolen string that has faded out starts its pending note.
+    void startStolenNotes();
+
+private:
+    void startKey(int slot, int note, double velocity, int channel);
+    void steal(int note, double velocity, int channel);
+    void startPendingNote(int slot);
+
+    StringSlots& strings_;
+    const SmoothedControls& controls_;
+    bool sustain_ = false;
+};
+
+}  // namespace jawari

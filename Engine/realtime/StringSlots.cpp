@@ -1,0 +1,147 @@
+#include "realtime/StringSlots.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jawari
+{
+namespace
+{
+constexpr double kFadeSeconds = 0.005;  // a stolen string fades out over this
+constexpr int kRetuneChunks = 4;        // a moving bend retunes every 4 chunks (128 samples)
+constexpr double kPluckMetresPerVelocity = 1.5e-3 * 127.0 / 100.0;  // MIDI velocity 100: 1.5 mm
+constexpr double kDronePans[kDroneStrings] = {-0.6, -0.2, 0.2, 0.6};
+}  // namespace
+
+StringSlots::StringSlots(const SmoothedControls& controls, const NoteExpression& expression,
+                         InstrumentActivity& activity)
+    : controls_(controls)
+    , expression_(expression)
+    , activity_(activity)
+{
+    for (int i = 0; i < kDroneStrings; ++i)
+        slots_[size_t(kMidiVoices + i)].pan = kDronePans[i];
+}
+
+void StringSlots::install(VoicePack& pack, bool carry)
+{
+    pack_ = &pack;
+    fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * pack.structure.hostRateHz)));
+    for (int i = 0; i < kSlots; ++i)
+    {
+        auto& s = slots_[size_t(i)];
+        if (!carry)
+        {
+            s.sounding = false;
+            s.fade = -1;
+            voice(i).silence();
+        }
+        retune(i);
+    }
+    applyContact();
+}
+
+void StringSlots::start(int slot, int note, double pitch, double velocity, int channel)
+{
+    auto& s = slots_[size_t(slot)];
+    auto& v = voice(slot);
+    const bool fromRest = !s.sounding || s.note != note;
+    const bool newChannel = s.channel != channel;
+    s.note = note;
+    s.pitch = pitch;
+    s.channel = channel;
+    s.ratio = ratioFor(pitchNow(slot));
+    if (newChannel)
+        v.setContactLaw(contactLaw(), heightOf(slot));
+    if (fromRest)
+    {
+        v.silence();
+        s.peakEnergy = 0.0;
+    }
+    retune(slot);
+    v.cancelRelease();
+    if (fromRest)
+    {
+        v.pluckFromShape(kPluckMetresPerVelocity * velocity);
+        ++activity_.notesStarted;
+    }
+    else
+    {
+        v.pluckWithPulse(velocity);
+        ++activity_.pulses;
+    }
+    s.held = true;
+    s.sustained = false;
+    s.sounding = true;
+    s.fade = -1;
+    s.age = ++clock_;
+}
+
+double StringSlots::pitchNow(int slot) const
+{
+    const auto& s = slots_[size_t(slot)];
+    return slot < kMidiVoices ? expression_.pitchOf(s.pitch, s.channel, controls_.current().bendRangeSemitones)
+                              : s.pitch;
+}
+
+double StringSlots::heightOf(int slot) const
+{
+    return expression_.heightOf(controls_.current().obstacleHeight, slots_[size_t(slot)].channel);
+}
+
+double StringSlots::ratioFor(double pitch) const
+{
+    const double f = controls_.current().tuningA4Hz * std::pow(2.0, (pitch - 69.0) / 12.0);
+    return f / pack_->baseFundamentalHz;
+}
+
+void StringSlots::retune(int slot)
+{
+    ++activity_.retunes;
+    const auto& s = slots_[size_t(slot)];
+    pack_->retuner.retune(voice(slot), s.ratio, controls_.current(), expression_.dampingOf(s.channel));
+}
+
+void StringSlots::retuneSounding(bool dampingChanged, bool bendSettled)
+{
+    ++chunkClock_;
+    const bool due = bendSettled || chunkClock_ % kRetuneChunks == 0;
+    for (int i = 0; i < kSlots; ++i)
+    {
+        auto& s = slots_[size_t(i)];
+        if (!s.sounding || s.fade >= 0)
+            continue;
+        const double wanted = ratioFor(pitchNow(i));
+        const bool pitchMoved = std::abs(wanted / s.ratio - 1.0) > 1e-9;
+        if (dampingChanged || expression_.slideMoved(s.channel) || (pitchMoved && due))
+        {
+            s.ratio = wanted;
+            retune(i);
+        }
+    }
+    if (expression_.pressureMoved())
+        applyContact();
+}
+
+void StringSlots::applyContact()
+{
+    const ContactLaw law = contactLaw();
+    for (int i = 0; i < kSlots; ++i)
+        voice(i).setContactLaw(law, heightOf(i));
+}
+
+ContactLaw StringSlots::contactLaw() const
+{
+    const auto& c = controls_.current();
+    return {std::max(c.stiffness, 0.0), std::max(c.exponent, 1.0)};
+}
+
+int StringSlots::sounding() const
+{
+    int n = 0;
+    for (const auto& s : slots_)
+        n += s.sounding ? 1 : 0;
+    return n;
+}
+
+}  // namespace jawari

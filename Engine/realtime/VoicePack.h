@@ -1,0 +1,86 @@
+#pragma once
+// A VoicePack: everything built OFF the audio thread for one InstrumentStructure (its string, its
+// obstacles, the quality, twelve voices and their backups, the drawing tables, the mix buffers and
+// decimators), installed by the Instrument at a block boundary. Also how a structure becomes the
+// physics: its string, obstacles, second polarisation and quality.
+
+#include "physics/ContactLaw.h"
+#include "physics/Obstacle.h"
+#include "physics/StringModel.h"
+#include "realtime/Decimator.h"
+#include "realtime/InstrumentSettings.h"
+#include "realtime/Quality.h"
+#include "realtime/StringRetuner.h"
+#include "realtime/Voice.h"
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace jawari
+{
+
+// The obstacles an InstrumentStructure stands for, at a given height offset. OFF.
+std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const ContactLaw& law, double height);
+StringParameters instrumentString(const InstrumentStructure& s);
+// The second polarisation of a structure with two (else none): detuned by 1e-3, damped alike,
+// plucked in the vertical, and coupled 1 cm from the far end by a spring tilted 30 degrees, a tenth
+// as stiff as the string itself is there (0.1 T / 1 cm: it raises the vertical's pitch by about
+// 0.1 %, which the tuning takes out).
+std::optional<SecondPolarisation> instrumentSecondPolarisation(const InstrumentStructure& s);
+// M and the oversampling of the structure's quality at its host rate.
+VoiceQuality instrumentQuality(const InstrumentStructure& s);
+
+// The right channel's pickup sits this fraction of the length further from the end than the
+// first pickup (at least 2 % of the length from either end): a second position weights the modes
+// differently, phi_p(x_R) against phi_p(x_L).
+inline constexpr double kSecondPickupOffset = 0.05;
+
+inline constexpr int kMidiVoices = 8;
+inline constexpr int kDroneStrings = 4;
+inline constexpr int kSlots = kMidiVoices + kDroneStrings;
+inline constexpr int kDrawPoints = 96;  // the points along the string the editor draws
+// The instrument renders in chunks of this many host samples: the pack's buffers hold one.
+inline constexpr int kChunkSamples = 32;
+
+// Everything built for one structure. OFF to build and to free.
+struct VoicePack
+{
+    InstrumentStructure structure;
+    StringParameters string;
+    double baseFundamentalHz = 0.0;              // mode 1 of the built string
+    std::vector<std::unique_ptr<Voice>> voices;  // kSlots
+    StringRetuner retuner;                       // retunes the voices, with scratch of its own
+    std::vector<double> drawShapes;              // kDrawPoints x M: phi_p at the drawing points (the vertical)
+    std::vector<double> drawHorizontal;          // the same for the horizontal polarisation; empty with one
+    std::vector<double> drawObstacle;            // kDrawPoints: obstacle height at height 0, or NaN
+    int modes = 0;
+    int latencySamples = 0;
+    // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
+    // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
+    double outputScale = 120.0;
+    double secondPickupGain = 1.0;  // the second pickup's level matched to the first's (their sines' ratio)
+    // The strings are mixed at the internal rate and decimated once per channel (the decimator is
+    // linear): the two decimators and the chunk's internal-rate buffers (kChunkSamples host
+    // samples each).
+    std::vector<Decimator> decimators;  // left, right
+    std::vector<double> mixLeft, mixRight;
+    std::vector<double> stringBlocks;  // kSlots chunks at the internal rate: each string's, before the mix
+    std::vector<double> secondBlocks;  // the same from each string's second pickup (the right channel)
+    // A second core's share (StringWorker): each slot's backup of its voice (a copy the audio thread
+    // steps when the worker is late), and the blocks the worker steps the voice into.
+    std::vector<std::unique_ptr<Voice>> backups;
+    std::vector<double> workerBlocks, workerSecondBlocks;
+    int oversampling = 1;
+
+    // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
+    // and the decimators' history.
+    void takeMotionFrom(VoicePack& other);
+};
+
+// Any structure: it is built as playableStructure(structure) (PlayableStructure.h).
+std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& structure);
+// The latency (host samples) of the pack buildVoicePack would build, without building it. OFF.
+int voicePackLatency(const InstrumentStructure& structure);
+
+}  // namespace jawari
