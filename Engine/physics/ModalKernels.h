@@ -174,6 +174,38 @@ struct PairReadout
     double second1 = 0.0, second2 = 0.0;  // h2 . X and h2 . Y
 };
 
+// pairStepWith's last modes, from p to M (fewer than a block), one at a time; their sums added to out.
+template <bool Second>
+inline void pairStepTail(const double* __restrict a, const double* __restrict e, double* __restrict X,
+                         double* __restrict Y, double* __restrict settled, const double* __restrict h,
+                         const double* __restrict h2, const double* __restrict phi, double c1, double c2, int p,
+                         int M, PairReadout& out)
+{
+    double y1 = out.pickup1, u1 = out.contact1, y2 = out.pickup2, u2 = out.contact2;
+    double s1 = out.second1, s2 = out.second2;  // locals: the stores to X and Y cannot alias them
+    for (; p < M; ++p)
+    {
+        const double ph = phi != nullptr ? phi[p] : 0.0;
+        const double before = X[p] + c1 * ph;
+        const double now = Y[p] + (c1 * a[p] + c2) * ph;
+        const double t1 = a[p] * now - e[p] * before;
+        const double t2 = a[p] * t1 - e[p] * now;
+        settled[p] = now;
+        X[p] = t1;
+        Y[p] = t2;
+        y1 += h[p] * t1;
+        u1 += ph * t1;
+        y2 += h[p] * t2;
+        u2 += ph * t2;
+        if constexpr (Second)
+        {
+            s1 += h2[p] * t1;
+            s2 += h2[p] * t2;
+        }
+    }
+    out = {y1, u1, y2, u2, s1, s2};
+}
+
 template <bool Second>
 inline void pairStepWith(const double* __restrict a, const double* __restrict e, double* __restrict X,
                          double* __restrict Y, double* __restrict settled, const double* __restrict h,
@@ -216,29 +248,9 @@ inline void pairStepWith(const double* __restrict a, const double* __restrict e,
         block.template operator()<true>(p);
     for (; p + kBlock <= M; p += kBlock)
         block.template operator()<false>(p);
-    double y1 = horizontalSum(ph1), u1 = horizontalSum(pc1), y2 = horizontalSum(ph2), u2 = horizontalSum(pc2);
-    double s1 = Second ? horizontalSum(sh1) : 0.0, s2 = Second ? horizontalSum(sh2) : 0.0;
-    for (; p < M; ++p)
-    {
-        const double ph = phi != nullptr ? phi[p] : 0.0;
-        const double before = X[p] + c1 * ph;
-        const double now = Y[p] + (c1 * a[p] + c2) * ph;
-        const double t1 = a[p] * now - e[p] * before;
-        const double t2 = a[p] * t1 - e[p] * now;
-        settled[p] = now;
-        X[p] = t1;
-        Y[p] = t2;
-        y1 += h[p] * t1;
-        u1 += ph * t1;
-        y2 += h[p] * t2;
-        u2 += ph * t2;
-        if constexpr (Second)
-        {
-            s1 += h2[p] * t1;
-            s2 += h2[p] * t2;
-        }
-    }
-    out = {y1, u1, y2, u2, s1, s2};
+    out = {horizontalSum(ph1), horizontalSum(pc1), horizontalSum(ph2), horizontalSum(pc2),
+           Second ? horizontalSum(sh1) : 0.0, Second ? horizontalSum(sh2) : 0.0};
+    pairStepTail<Second>(a, e, X, Y, settled, h, h2, phi, c1, c2, p, M, out);
 }
 
 inline void pairStep(const double* a, const double* e, double* X, double* Y, double* settled, const double* h,
