@@ -234,9 +234,11 @@ TEST_CASE("Thousands of random structures, edges and non-numbers are made playab
 }
 
 // Found by the test above (its structure 1616): a 28.8 mm bridge of the greatest curvature near the
-// string's middle, with its thread, trips the runaway guard once with every contact method, the
-// energy-conserving one included, so it is the guard's bound (4 sqrt(2 H G)) that does not hold here,
-// or the energy it is built on. Known and open: it runs, and says so, until that is mended.
+// string's middle, with its thread, trips the runaway guard with every contact method, the
+// energy-conserving one included. Measured at the trip: the string's energy 0.0379 J, under the
+// most it was given (0.0381 J), but the second pickup reads 0.00993 against the guard's limit
+// 4 sqrt(2 H G) = 0.00920: a false trip, the bound not holding for that pickup (its compliance G, or
+// its reading above the band). Known and open: it runs, and says so, until that is mended.
 TEST_CASE("A wide steep bridge near the middle of the string plays without tripping the runaway guard",
           "[structure][!mayfail]")
 {
@@ -250,6 +252,8 @@ TEST_CASE("A wide steep bridge near the middle of the string plays without tripp
     s.curvature = 100.0;
     s.pluckPosition = 0.849931;
     s.pickupPosition = 0.681717;
+    s.inharmonicity = 1e-9;
+    s.releaseSeconds = 0.05;
     s.threadOffset = 0.0178507;
     s.threadDiameter = 0.3e-3;
     s.quality = 0;
