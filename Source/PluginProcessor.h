@@ -92,6 +92,8 @@ public:
     // CT: blocks until the builder has built and the audio thread could take the pack for the
     // current parameters (tests, offline rendering). Returns false after the timeout.
     bool waitForBuilds(int timeoutMs = 20000);
+    // Tests: the second core's worker, to set its pace and mark its thread.
+    StringWorker& workerForTesting() { return worker_; }
     // The structure the audio thread plays now (CT, approximate).
     long packsInstalled() const { return packsInstalled_.load(); }
     // What the plugin last refused or could not do, and why (a build, a state, a preset), or empty

@@ -559,6 +559,20 @@ TEST_CASE("Every block size from 1 to 4096 and sample rates from 44.1 to 192 kHz
         }
 }
 
+// The plugin's second-core worker marked real-time by its task hook, in each task it claims.
+struct WorkerCounts
+{
+    test::RealtimeCounts counts;
+    std::atomic<long> tasks{0};
+
+    static void inTask(void* self)
+    {
+        auto& mark = *static_cast<WorkerCounts*>(self);
+        test::countOnThisThread(&mark.counts);
+        ++mark.tasks;
+    }
+};
+
 TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack, on one core "
           "or two",
           "[plugin]")
@@ -566,9 +580,14 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
     for (const bool secondCore : {false, true})
     {
         INFO("second core " << secondCore);
+        WorkerCounts worker;  // before the processor: it outlives the worker's thread
         JawariAudioProcessor p;
         setParameter(p, ids::quality, 0.0f);
         setParameter(p, ids::secondCore, secondCore ? 1.0f : 0.0f);
+        // The worker in step with the audio thread: every string handed over is the worker's, and its
+        // thread counts its allocations, whatever the machine's load.
+        p.workerForTesting().setTaskHookForTesting(&WorkerCounts::inTask, &worker);
+        p.workerForTesting().setPaceForTesting(StringWorker::Pace::inStep);
         prepare(p, 48000.0, 512);
         juce::AudioBuffer<float> buffer(2, 512);
         juce::MidiBuffer midi;
@@ -611,8 +630,12 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
             }
             counted = test::allocations;
         }
-        INFO("packs installed during the run " << p.packsInstalled() - before);
+        INFO("packs installed during the run " << p.packsInstalled() - before << ", tasks the worker took "
+                                                << worker.tasks.load() << ", its allocations "
+                                                << worker.counts.allocations.load());
         CHECK(counted == 0);
+        CHECK(worker.counts.allocations.load() == 0);
+        CHECK((worker.tasks.load() > 0) == secondCore);
         CHECK(p.packsInstalled() > before);
     }
 }
