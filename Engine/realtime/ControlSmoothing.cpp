@@ -17,9 +17,9 @@ double ControlRule::playable(double target, double value) const
 
 bool ControlRule::moves(double value, double target) const
 {
-    if (!glide)
-        return target != value;  // an unplayable target counts as moving: taking it again changes nothing
     const double goal = playable(target, value);
+    if (!glide)
+        return goal != value;  // an unplayable target already taken does not move it again
     return geometric ? std::log(goal) != std::log(std::clamp(value, lowest, highest)) : goal != value;
 }
 

@@ -25,8 +25,8 @@ struct ControlRule
     double tolerance = 0.0;
 
     double playable(double target, double value) const;  // the target made playable
-    // Whether the value is to move: a glide's is not at its playable target; a jump's differs from
-    // the target as set.
+    // Whether the value is to move: it is not at its playable target (for a geometric glide, in
+    // log(v)).
     bool moves(double value, double target) const;
     double step(double value, double target, double k) const;  // the value one chunk on
 };
