@@ -22,9 +22,9 @@ namespace
 {
 // Under ThreadSanitizer (tools/tsan.sh) everything runs many times slower: a shorter performance.
 #ifdef __SANITIZE_THREAD__
-constexpr int kBlocks = 240;
+constexpr int kBlocks = 64;
 #else
-constexpr int kBlocks = 750;
+constexpr int kBlocks = 300;
 #endif
 
 InstrumentStructure structureFor(ObstacleShape shape)
@@ -44,7 +44,7 @@ struct Performance
 };
 
 // Eight notes, the drone, a bend, the bridge automated, a new pack, the notes released: kBlocks
-// blocks of 128 samples (and of 37 now and then; 2 s in all without a sanitizer), with the second
+// blocks of 128 samples (and of 37 now and then; 0.7 s in all without a sanitizer), with the second
 // core if one is given, and `afterBlock` called between blocks if given.
 Performance perform(ObstacleShape shape, StringWorker* worker, const std::function<void()>& afterBlock = {})
 {
