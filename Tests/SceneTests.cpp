@@ -48,8 +48,9 @@ TEST_CASE("every obstacle type and override parses")
                       {"position": 0.3}],
         "pickup": {"quantity": "force"},
         "simulation": {"modes": 200, "rate": 480000, "duration": 0.5, "output_rate": 44100,
-                       "residual_compliance": false, "static_pickup": false}})");
+                       "residual_compliance": false, "residual_compliance_loss": 0.25, "static_pickup": false}})");
     CHECK_FALSE(s.simulation.residualCompliance);
+    CHECK(s.simulation.residualComplianceLoss == 0.25);
     CHECK_FALSE(s.simulation.staticPickup);
     CHECK(s.string.damping.law == DampingLaw::constant);
     CHECK(s.string.damping.sigma == 1.5);
@@ -125,6 +126,8 @@ TEST_CASE("bad scenes are rejected with the field named")
         {R"({"format": "jawari-scene/1", "simulation": {"modes": 0}})", "simulation.modes: must be between 1"},
         {R"({"format": "jawari-scene/1", "simulation": {"static_pickup": 1}})",
          "simulation.static_pickup: must be true or false"},
+        {R"({"format": "jawari-scene/1", "simulation": {"residual_compliance_loss": 1.5}})",
+         "simulation.residual_compliance_loss: must be between 0 and 1"},
         {R"({"format": "jawari-scene/1", "simulation": {"modes": 10.5}})", "simulation.modes: must be a whole number"},
         {R"({"format": "jawari-scene/1", "simulation": {"duration": -1}})", "simulation.duration: must be > 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"duration": 1e9}})",

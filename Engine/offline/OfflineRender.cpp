@@ -119,6 +119,7 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     v.oversampling = q.oversampling;
     v.hostRateHz = scene.simulation.outputRateHz;
     v.residualCompliance = scene.simulation.residualCompliance;
+    v.residualComplianceLoss = scene.simulation.residualComplianceLoss;
     v.staticPickupAboveNyquist = scene.simulation.staticPickup;
     if (scene.simulation.contact == ContactMethod::energyConserving)
         v.reach = [scene](double x) { return reachAt(scene, x); };

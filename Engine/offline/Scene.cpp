@@ -499,6 +499,13 @@ void readSimulation(const json& value, Simulation& simulation)
     }
     simulation.durationSeconds = r.positive("duration", simulation.durationSeconds);
     simulation.residualCompliance = r.boolean("residual_compliance", simulation.residualCompliance);
+    if (r.has("residual_compliance_loss"))
+    {
+        const double theta = r.number("residual_compliance_loss", 0.0);
+        if (!(theta >= 0.0 && theta <= 1.0))
+            throw SceneError(r.at("residual_compliance_loss"), "must be between 0 and 1 (got " + std::to_string(theta) + ")");
+        simulation.residualComplianceLoss = theta;
+    }
     simulation.staticPickup = r.boolean("static_pickup", simulation.staticPickup);
     if (const auto o = r.integer("output_rate"))
     {

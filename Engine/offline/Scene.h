@@ -56,6 +56,8 @@ struct Simulation
     double durationSeconds = 1.0;
     int outputRateHz = 48000;
     bool residualCompliance = true;  // the voice's methods: the dropped modes' static compliance in series
+    // Its loss share theta in [0, 1] (VoiceConfig::residualComplianceLoss); empty: the voice's rule.
+    std::optional<double> residualComplianceLoss;
     bool staticPickup = true;  // the voice's methods: the modes above the output's Nyquist frequency read statically
 };
 

@@ -55,7 +55,7 @@ void ContactReach::measure(const std::vector<ExactModeCoefficients>& normal,
             sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
         }
         const double spring =
-            compliance.active() ? std::max(compliance.complianceW()(long(j), long(j)) / contacts[j].weight, 0.0) : 0.0;
+            compliance.active() ? std::max(compliance.diagonal(int(j)), 0.0) : 0.0;
         reach_[j] = std::sqrt(2.0 * sum / mu) + 2.0 * std::sqrt(spring);
     }
 }

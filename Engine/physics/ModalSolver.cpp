@@ -36,7 +36,7 @@ bool ModalSolver::beginStep(ScalarContactRequest& request)
     if (P_ == 1)
     {
         s_[0] = contacts_[0].height - uCPrev_[0] - compliance_.deltaPrev(0);
-        b_[0] = pairU_ - uCPrev_[0] - compliance_.deltaPrev(0);
+        b_[0] = pairU_ - uCPrev_[0] - compliance_.restoring(0);
         if (method_ == ContactMethod::energyConserving)
         {
             system_.scalarRequest(0, s_[0], b_[0], request);
@@ -142,7 +142,7 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
 
 void ModalSolver::updateCouplings()
 {
-    const auto& CW = compliance_.complianceW();
+    const auto& CW = compliance_.coupling();
     for (int i = 0; i < P_; ++i)
         for (int j = 0; j < P_; ++j)
         {
@@ -272,7 +272,7 @@ void ModalSolver::stepSingle()
         {
             const int j = rows[k];
             s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
-            b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.deltaPrev(j);
+            b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.restoring(j);
         }
         lastIterations_ = solveContacts();
         for (int k = 0; k < reach_.liveCount(); ++k)

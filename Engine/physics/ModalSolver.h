@@ -75,6 +75,9 @@ struct ModalSolverConfig
     // Residual compliance (ResidualCompliance.h), P x P row-major, m/N: C_ij = sum over the dropped
     // modes of phi_p(x_i) phi_p(x_j) / (mu w_p^2). Projection path only; empty for none.
     std::vector<double> contactCompliance;
+    // The share theta in [0, 1] of the residual compliance's two-step change that it dissipates
+    // (ResidualCompliance.h): 0 conserves its energy, 1 is backward Euler on the massless spring.
+    double complianceLoss = 1.0;
     ContactMethod method = ContactMethod::energyConserving;
     // Step every mode, even those nothing couples to and that start at rest: the plugin's voices
     // take state across rebuilds (a new pluck or pickup point) and must not drop a ringing mode.

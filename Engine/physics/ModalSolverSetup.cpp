@@ -138,17 +138,18 @@ Eigen::MatrixXd ModalSolver::stringResponse() const
     return A;
 }
 
-// The residual compliance and the chosen contact method, on the coupling A (+ C W).
+// The residual compliance and the chosen contact method, on the coupling A (+ kappa C W).
 void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::MatrixXd A)
 {
     stringCoupling_ = A;
-    compliance_.prepare(transform_ ? std::vector<double>{} : config.contactCompliance, contacts_);
+    compliance_.prepare(transform_ ? std::vector<double>{} : config.contactCompliance, contacts_,
+                        config.complianceLoss);
     if (compliance_.active())
     {
-        couplingScratch_ = A + compliance_.complianceW();
+        couplingScratch_ = A + compliance_.coupling();
         // The contact sees the true displacement change R = r + delta^{n+1} - delta^{n-1}
-        //   = (b - delta^{n-1}) + (A + C W) f: the same equation with A + C W.
-        A += compliance_.complianceW();
+        //   = (b - kappa delta^{n-1}) + (A + kappa C W) f: the same equation with A + kappa C W.
+        A += compliance_.coupling();
     }
     method_ = config.method;
     pointCoupling_ = A;

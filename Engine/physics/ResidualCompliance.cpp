@@ -5,32 +5,35 @@
 namespace jawari
 {
 
-void ResidualCompliance::prepare(const std::vector<double>& compliance, const std::vector<ContactPoint>& contacts)
+void ResidualCompliance::prepare(const std::vector<double>& compliance, const std::vector<ContactPoint>& contacts,
+                                 double theta)
 {
     P_ = static_cast<int>(contacts.size());
     delta_.assign(P_, 0.0);
     deltaPrev_.assign(P_, 0.0);
+    force_.assign(P_, 0.0);
+    forcePrev_.assign(P_, 0.0);
+    weights_.resize(P_);
+    for (int j = 0; j < P_; ++j)
+        weights_[j] = contacts[j].weight;
     if (compliance.empty())
         return;
     if (compliance.size() != size_t(P_) * P_)
         throw std::invalid_argument("contact compliance must be P x P");
+    if (!(theta >= 0.0 && theta <= 1.0))
+        throw std::invalid_argument("the residual compliance's loss share theta must be in [0, 1]");
+    kappa_ = 2.0 / (1.0 + theta);
     baseC_ = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(compliance.data(),
                                                                                                       P_, P_);
-    complianceW_ = baseC_;
-    for (int j = 0; j < P_; ++j)
-        complianceW_.col(j) *= contacts[j].weight;
-    inverse_ = baseC_.inverse();
-    baseInverse_ = inverse_;
+    coupling_.resize(P_, P_);
+    rescale(1.0, contacts);
 }
 
 void ResidualCompliance::rescale(double scale, const std::vector<ContactPoint>& contacts)
 {
     for (int i = 0; i < P_; ++i)
         for (int j = 0; j < P_; ++j)
-        {
-            complianceW_(i, j) = scale * baseC_(i, j) * contacts[j].weight;
-            inverse_(i, j) = baseInverse_(i, j) / scale;  // no Eigen inverse on the audio thread
-        }
+            coupling_(i, j) = kappa_ * (scale * baseC_(i, j) * contacts[j].weight);
 }
 
 void ResidualCompliance::advance(const double* slope)
@@ -38,19 +41,26 @@ void ResidualCompliance::advance(const double* slope)
     if (!active())
         return;
     // An element loop, not std::copy/fill: P is mostly 1, where their calls cost more than the work.
+    // The force-free part first: delta^{n+1} = -(kappa - 1) delta^{n-1}, g likewise.
+    const double back = kappa_ - 1.0;
     for (int j = 0; j < P_; ++j)
     {
-        deltaPrev_[j] = delta_[j];
-        delta_[j] = 0.0;
+        const double d = delta_[j], g = force_[j];
+        delta_[j] = -back * deltaPrev_[j];
+        force_[j] = -back * forcePrev_[j];
+        deltaPrev_[j] = d;
+        forcePrev_[j] = g;
     }
-    // delta = -C W G, column by column over the points that press (most do not, most of the time).
+    // Then kappa C W f = -kappa C W G, column by column over the points that press (most do not,
+    // most of the time).
     for (int i = 0; i < P_; ++i)
         if (slope[i] != 0.0)
         {
-            const double* column = complianceW_.data() + static_cast<ptrdiff_t>(i) * P_;  // column-major
+            const double* column = coupling_.data() + static_cast<ptrdiff_t>(i) * P_;  // column-major
             const double g = slope[i];
             for (int j = 0; j < P_; ++j)
                 delta_[j] -= column[j] * g;
+            force_[i] -= kappa_ * weights_[i] * g;
         }
 }
 
@@ -58,26 +68,18 @@ void ResidualCompliance::reset()
 {
     std::fill(delta_.begin(), delta_.end(), 0.0);
     std::fill(deltaPrev_.begin(), deltaPrev_.end(), 0.0);
+    std::fill(force_.begin(), force_.end(), 0.0);
+    std::fill(forcePrev_.begin(), forcePrev_.end(), 0.0);
 }
 
 double ResidualCompliance::energy() const
 {
     if (!active())
         return 0.0;
-    // d^T C^-1 d by loops: Eigen's d.dot(C^-1 d) makes its product in a heap temporary, and the
-    // solver measures this energy on the audio thread (its points out of reach).
-    auto quadratic = [&](const std::vector<double>& d) {
-        double sum = 0.0;
-        for (int j = 0; j < P_; ++j)
-        {
-            double row = 0.0;
-            for (int i = 0; i < P_; ++i)
-                row += inverse_(j, i) * d[size_t(i)];
-            sum += d[size_t(j)] * row;
-        }
-        return sum;
-    };
-    return 0.25 * (quadratic(delta_) + quadratic(deltaPrev_));
+    double sum = 0.0;
+    for (int j = 0; j < P_; ++j)
+        sum += force_[j] * delta_[j] + forcePrev_[j] * deltaPrev_[j];
+    return 0.25 * sum;
 }
 
 }  // namespace jawari

@@ -2,11 +2,19 @@
 // The dropped modes' static compliance in series with the contact (docs/design.md section 5).
 //
 // C_ij = sum over the dropped modes of phi_p(x_i) phi_p(x_j) / (mu w_p^2) is the static deflection
-// at point i per newton at point j. The dropped modes' quasi-static deflection delta = C W f sits
-// in series with the contact: the contact sees u + delta, and delta^{n+1} = C W f^n (backward
-// Euler on the massless spring). The contact equation keeps its form with A -> A + C W, and the
-// energy H, spring included, can only decrease, by exactly
-// (delta^{n+1} - delta^{n-1})^T C^{-1} (delta^{n+1} - delta^{n-1}) / 4 a step.
+// at point i per newton at point j. The dropped modes' deflection delta = C g sits in series with
+// the contact: the contact sees u + delta, and the spring's force g answers the contact's force
+// F = W f by the theta-average
+//
+//   ((1 + theta) g^{n+1} + (1 - theta) g^{n-1}) / 2 = F^n,   delta = C g,
+//
+// so that delta^{n+1} = kappa C F^n - (kappa - 1) delta^{n-1} with kappa = 2 / (1 + theta), and the
+// contact equation keeps its form with A -> A + kappa C W and b -> b - kappa delta^{n-1}. The
+// spring stores (g^{n+1} C g^{n+1} + g^n C g^n) / 4 = (g^{n+1} . delta^{n+1} + g^n . delta^n) / 4
+// (no inverse of C: coincident points, whose C is singular, are no exception), and the work F^n .
+// (delta^{n+1} - delta^{n-1}) / 2 changes that by exactly its rise plus the loss
+// theta (g^{n+1} - g^{n-1}) C (g^{n+1} - g^{n-1}) / 4 >= 0. theta = 0 (the trapezoid) conserves;
+// theta = 1 is backward Euler on the massless spring, delta^{n+1} = C F^n.
 
 #include "physics/Obstacle.h"
 
@@ -20,27 +28,35 @@ namespace jawari
 class ResidualCompliance
 {
 public:
-    // OFF: C (P x P, row-major, m/N; empty for none) for the given contact points.
-    void prepare(const std::vector<double>& compliance, const std::vector<ContactPoint>& contacts);
-    bool active() const { return complianceW_.size() != 0; }
-    const Eigen::MatrixXd& complianceW() const { return complianceW_; }  // C W
+    // OFF: C (P x P, row-major, m/N; empty for none) for the given contact points, and theta in
+    // [0, 1], the share of the spring's two-step change that it dissipates.
+    void prepare(const std::vector<double>& compliance, const std::vector<ContactPoint>& contacts, double theta);
+    bool active() const { return coupling_.size() != 0; }
+    // What the spring adds to the contact equation's coupling A: kappa C W.
+    const Eigen::MatrixXd& coupling() const { return coupling_; }
+    double diagonal(int j) const { return coupling_(j, j) / kappa_ / weights_[size_t(j)]; }  // C_jj, m/N
 
     // RT: C scaled by `scale` from the configured one (1/r^2 when every frequency is scaled by r).
     void rescale(double scale, const std::vector<ContactPoint>& contacts);
-    // RT: delta^{n+1} = C W f = -C W G from the points' slopes G.
+    // RT: g^{n+1} and delta^{n+1} = C g^{n+1} from the points' slopes G (f = -G).
     void advance(const double* slope);
     // RT: no deflection at n and n-1.
     void reset();
     double delta(int j) const { return delta_[size_t(j)]; }          // n
     double deltaPrev(int j) const { return deltaPrev_[size_t(j)]; }  // n-1
-    // The spring's energy between n-1 and n: (delta^T C^{-1} delta at n and at n-1) / 4. RT (no allocation).
+    // kappa delta^{n-1}_j: how far the force-free spring would carry point j's deflection back.
+    double restoring(int j) const { return kappa_ * deltaPrev_[size_t(j)]; }
+    // The spring's energy between n-1 and n: (g^n . delta^n + g^{n-1} . delta^{n-1}) / 4. RT.
     double energy() const;
 
 private:
     int P_ = 0;
-    Eigen::MatrixXd baseC_, baseInverse_;  // as configured (rescale starts from them)
-    Eigen::MatrixXd complianceW_, inverse_;
-    std::vector<double> delta_, deltaPrev_;
+    double kappa_ = 1.0;      // 2 / (1 + theta)
+    Eigen::MatrixXd baseC_;     // as configured (rescale starts from it)
+    Eigen::MatrixXd coupling_;  // kappa C W, column-major
+    std::vector<double> weights_;
+    std::vector<double> delta_, deltaPrev_;  // C g at n and n-1 (m)
+    std::vector<double> force_, forcePrev_;  // g at n and n-1 (N)
 };
 
 }  // namespace jawari

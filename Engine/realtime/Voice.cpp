@@ -32,6 +32,11 @@ std::vector<double> shapeInModes(const ModalSolverConfig& c, const std::vector<d
 }
 }  // namespace
 
+double residualComplianceLoss(double droppedSigma)
+{
+    return droppedSigma > 0.0 ? 1.0 : 0.0;
+}
+
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
 {
     const auto& s = config.string;
@@ -59,6 +64,7 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
                 for (int j = 0; j < P; ++j)
                     c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
         }
+        c.complianceLoss = config.residualComplianceLoss.value_or(residualComplianceLoss(dropped.sigma[size_t(M)]));
     }
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
         c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);
@@ -72,9 +78,11 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         // The dropped modes' compliance at the obstacles' points stays what it is: the spring acts
         // on the kept modes only, and the compliance is between point forces and displacements.
         const auto compliance = std::move(c.contactCompliance);
+        const double loss = c.complianceLoss;
         c.contactCompliance.clear();
         c = coupledModesConfig(c, *config.secondPolarisation).config;
         c.contactCompliance = compliance;
+        c.complianceLoss = loss;
     }
     return c;
 }

@@ -41,6 +41,8 @@ struct VoiceConfig
     // The dropped modes' static compliance in series with the contact (docs/design.md section 5). Off,
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
+    // Its loss share theta (ModalSolverConfig::complianceLoss). Empty: residualComplianceLoss().
+    std::optional<double> residualComplianceLoss;
     // The pickups read the modes above the host's Nyquist frequency by their static response to the
     // forces (ModalSolverConfig::pickupBandHz), which the decimator passes; their ringing it stops.
     // Off, or without oversampling, the pickups read every mode as it moves.
@@ -205,5 +207,12 @@ private:
 // The voice's solver: stringSolverConfig plus the excitation point, the release damping, the
 // contact method and the residual compliance. OFF.
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config);
+
+// The residual compliance's loss share theta for a string whose first dropped mode decays at
+// `droppedSigma` (1/s): 0 for a lossless string, whose voice then conserves its energy exactly; 1
+// (backward Euler) for any other. Measured against the reference on every preset scene, theta = 1
+// is the closer: the trapezoid (theta near 0) keeps a spurious ringing of the spring at a quarter of
+// the internal rate, which the contact feels (docs/design.md section 5).
+double residualComplianceLoss(double droppedSigma);
 
 }  // namespace jawari
