@@ -16,6 +16,15 @@ double contactPotential(const ContactLaw& law, double penetration)
     return law.stiffness / beta * std::pow(penetration, beta);
 }
 
+double largestForceDensity(const ContactLaw& law, double weight, double energy)
+{
+    if (!(energy > 0.0))
+        return 0.0;
+    const double beta = law.exponent + 1.0;
+    const double deepest = std::pow(beta * energy / (law.stiffness * weight), 1.0 / beta);
+    return law.stiffness * std::pow(deepest, law.exponent);
+}
+
 DividedSeries dividedSeries(double alpha)
 {
     DividedSeries series;

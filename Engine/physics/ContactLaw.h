@@ -18,6 +18,10 @@ struct ContactLaw
 // psi as a function of the penetration g - u (J/m).
 double contactPotential(const ContactLaw& law, double penetration);
 
+// The largest force density K p^alpha a point of weight w (m) can bear while its energy w psi(p)
+// stays at most `energy` (J): p <= ((alpha + 1) energy / (K w))^(1/(alpha + 1)).
+double largestForceDensity(const ContactLaw& law, double weight, double energy);
+
 // The series of the divided difference D(p) = (p^beta - s^beta) / (p - s) about p = s:
 //   D = s^alpha sum_k c_k e^k,   e = (p - s) / s,   c_k = binomial(beta, k + 1),
 // used where |e| <= kReach: no pow and no cancellation there. It depends on alpha only, so it is

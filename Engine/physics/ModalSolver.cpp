@@ -106,6 +106,17 @@ double ModalSolver::pickupCompliance(bool second) const
     return pickups_[second ? 1 : 0].compliance(mu_, omega_);
 }
 
+double ModalSolver::pickupForceBound(double energy, bool second) const
+{
+    const auto& pickup = pickups_[second ? 1 : 0];
+    double sum = 0.0;
+    for (int j = 0; j < P_; ++j)
+        if (const double response = pickup.responseAt(j); response != 0.0)
+            sum += std::abs(response)
+                   * largestForceDensity(contacts_[size_t(j)].law, contacts_[size_t(j)].weight, 2.0 * energy);
+    return sum;
+}
+
 double ModalSolver::pickupAboveBand(bool second) const
 {
     return pickups_[second ? 1 : 0].aboveBand(state_);

@@ -137,6 +137,11 @@ public:
     // OFF: sum_p h_p^2 / (mu w_p^2): |pickup| <= sqrt(2 H this) for a string of energy H (of the
     // second pickup with `second`).
     double pickupCompliance(bool second = false) const;
+    // RT: the most the contact forces can add to a pickup's reading at once for a string whose H
+    // stays at most `energy`: sum_j |its response to point j's force| times the largest force H
+    // allows there (at n+1 and n-1 each point's potential is at most 2 H). It bounds the static
+    // reading of the modes above the pickup's band, which sqrt(2 H G) does not.
+    double pickupForceBound(double energy, bool second = false) const;
     // RT: what the pickup does not read of the modes above its band as they are now (their static
     // share of h_p q_p): a held shape's part that the first sample leaves out.
     double pickupAboveBand(bool second = false) const;

@@ -67,6 +67,7 @@ public:
     // RT, within a step: the prediction's reading corrected by point j's force slope G_j (f_j = -G_j)
     // and by an external force (N) at the excitation.
     void press(int j, double slope) { predicted -= atPoint_[size_t(j)] * slope; }
+    double responseAt(int j) const { return atPoint_[size_t(j)]; }  // what press(j, 1) takes off
     void push(double newtons) { predicted += newtons * atExcitation_; }
 
     double value = 0.0;      // y^n

@@ -167,7 +167,11 @@ void Voice::raiseCeiling()
     // the pickup's own weights (h^2 / (mu w^2) already carries their units squared over J). H
     // counts what the obstacles hold: a string started inside one is launched by that energy.
     energyCeiling_ = std::max(energyCeiling_, solver_.stringEnergy() + solver_.obstacleEnergy());
-    runawayLimit_ = 4.0 * std::sqrt(2.0 * energyCeiling_ * pickupCompliance_);
+    // The modes above the pickups' band are read by their static response to the contact forces,
+    // which H bounds only through the forces.
+    const double forced =
+        std::max(solver_.pickupForceBound(energyCeiling_), solver_.pickupForceBound(energyCeiling_, true));
+    runawayLimit_ = 4.0 * (std::sqrt(2.0 * energyCeiling_ * pickupCompliance_) + forced);
     if (quantity_ == PickupQuantity::velocity)
         runawayLimit_ *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
 }
@@ -312,6 +316,8 @@ void Voice::setContactLaw(const ContactLaw& law, double heightOffset)
 {
     for (int j = 0; j < solver_.contactCount(); ++j)
         solver_.setContact(j, law, baseHeights_[size_t(j)] + heightOffset);
+    if (pulseStep_ < 0 && energyCeiling_ > 0.0)
+        raiseCeiling();  // a stiffer law bears larger forces at the same energy
 }
 
 void Voice::silence()
