@@ -45,6 +45,26 @@ TEST_CASE("Valette's damping law gives the paper's quality factors")
     CHECK(top.sigma[1000] > 0.5 * top.omega[1000]);
 }
 
+TEST_CASE("The wavenumber damping law gives DAFx-16's decay rates for its C3 string")
+{
+    // van Walstijn, Bridges & Mehes (DAFx-16), eq. 18 and Table 1: sigma_i = sigma0 + sigma1 beta_i
+    // + sigma3 beta_i^3, beta_i = i pi / L, with 0.6 1/s, 6.5e-3 m/s and 5e-6 m^3/s on a 1 m string.
+    StringParameters s;
+    s.lengthMetres = 1.0;
+    s.tensionNewtons = 33.1;
+    s.linearDensity = 4.83e-4;
+    s.damping.law = DampingLaw::wavenumber;
+    s.damping.sigma0 = 0.6;
+    s.damping.sigma1 = 6.5e-3;
+    s.damping.sigma3 = 5e-6;
+    const auto t = buildModalTable(s, 133);
+    constexpr double pi = std::numbers::pi;
+    CHECK(t.sigma[0] == Approx(0.6 + 6.5e-3 * pi + 5e-6 * pi * pi * pi).epsilon(1e-14));  // 0.621 1/s
+    const double beta = 133 * pi;
+    CHECK(t.sigma[132] == Approx(0.6 + 6.5e-3 * beta + 5e-6 * beta * beta * beta).epsilon(1e-14));
+    CHECK(t.sigma[132] == Approx(368.05).epsilon(1e-4));  // the 20 kHz mode decays in 2.7 ms
+}
+
 TEST_CASE("the multiplied-out update is the paper's scheme (eq. 5) and its energy coefficients")
 {
     // Paper: alpha_i = 2/(w dt)^2 - A/(1+e-A), sigma* = (1/dt + w^2 dt/2 (1 - alpha)) (1-e)/(1+e),

@@ -54,6 +54,12 @@ TEST_CASE("every obstacle type and override parses")
     CHECK_FALSE(s.simulation.staticPickup);
     CHECK(s.string.damping.law == DampingLaw::constant);
     CHECK(s.string.damping.sigma == 1.5);
+    const auto w = parseScene(R"({"format": "jawari-scene/1", "string": {"damping": {"law": "wavenumber",
+        "sigma0": 0.6, "sigma1": 6.5e-3, "sigma3": 5e-6}}})");
+    CHECK(w.string.damping.law == DampingLaw::wavenumber);
+    CHECK(w.string.damping.sigma0 == 0.6);
+    CHECK(w.string.damping.sigma1 == 6.5e-3);
+    CHECK(w.string.damping.sigma3 == 5e-6);
     REQUIRE(s.string.modeOverrides.size() == 1);
     CHECK(*s.string.modeOverrides[0].frequencyHz == 400.5);
     REQUIRE(s.obstacles.size() == 3);
@@ -124,6 +130,10 @@ TEST_CASE("bad scenes are rejected with the field named")
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 0}})", "simulation.rate: must be > 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 20000}})", "simulation.rate: the internal rate"},
         {R"({"format": "jawari-scene/1", "simulation": {"modes": 0}})", "simulation.modes: must be between 1"},
+        {R"({"format": "jawari-scene/1", "string": {"damping": {"law": "valette", "sigma3": 5e-6}}})",
+         "string.damping.sigma3: is only used with law 'wavenumber'"},
+        {R"({"format": "jawari-scene/1", "string": {"damping": {"law": "wavenumber", "sigma1": -1}}})",
+         "string.damping.sigma1: must be >= 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"static_pickup": 1}})",
          "simulation.static_pickup: must be true or false"},
         {R"({"format": "jawari-scene/1", "simulation": {"residual_compliance_loss": 1.5}})",

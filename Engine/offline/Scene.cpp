@@ -188,8 +188,11 @@ void readString(const json& j, Scene& scene)
     {
         ObjectReader d(r.raw("damping"), "string.damping");
         auto& dp = s.damping;
-        const auto law = d.string("law", "valette", {"valette", "none", "constant"});
-        dp.law = law == "none" ? DampingLaw::none : law == "constant" ? DampingLaw::constant : DampingLaw::valette;
+        const auto law = d.string("law", "valette", {"valette", "none", "constant", "wavenumber"});
+        dp.law = law == "none"         ? DampingLaw::none
+                 : law == "constant"   ? DampingLaw::constant
+                 : law == "wavenumber" ? DampingLaw::wavenumber
+                                       : DampingLaw::valette;
         dp.etaAir = d.nonNegative("eta_air", dp.etaAir);
         dp.rhoAir = d.nonNegative("rho_air", dp.rhoAir);
         dp.deltaVe = d.nonNegative("delta_ve", dp.deltaVe);
@@ -197,6 +200,12 @@ void readString(const json& j, Scene& scene)
         if (d.has("sigma") && dp.law != DampingLaw::constant)
             throw SceneError(d.at("sigma"), "is only used with law 'constant'");
         dp.sigma = d.nonNegative("sigma", dp.sigma);
+        for (const char* key : {"sigma0", "sigma1", "sigma3"})
+            if (d.has(key) && dp.law != DampingLaw::wavenumber)
+                throw SceneError(d.at(key), "is only used with law 'wavenumber'");
+        dp.sigma0 = d.nonNegative("sigma0", dp.sigma0);
+        dp.sigma1 = d.nonNegative("sigma1", dp.sigma1);
+        dp.sigma3 = d.nonNegative("sigma3", dp.sigma3);
         d.rejectUnknown();
     }
     if (r.has("modes"))

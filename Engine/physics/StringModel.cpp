@@ -61,6 +61,13 @@ ModalTable buildModalTable(const StringParameters& string, int modeCount)
             case DampingLaw::valette: table.sigma[i] = pi * f * valetteInverseQ(string, f); break;
             case DampingLaw::none: table.sigma[i] = 0.0; break;
             case DampingLaw::constant: table.sigma[i] = string.damping.sigma; break;
+            case DampingLaw::wavenumber:
+            {
+                const double beta = (i + 1) * pi / string.lengthMetres;
+                const auto& d = string.damping;
+                table.sigma[i] = d.sigma0 + d.sigma1 * beta + d.sigma3 * beta * beta * beta;
+                break;
+            }
         }
     }
     for (const auto& o : string.modeOverrides)

@@ -13,7 +13,8 @@ enum class DampingLaw
 {
     valette,  // 1/Q = 1/Q_air + 1/Q_ve + 1/Q_te (paper eq. 9)
     none,     // lossless: the energy tests need it
-    constant  // one sigma (1/s) for every mode
+    constant,   // one sigma (1/s) for every mode
+    wavenumber  // sigma_p = sigma0 + sigma1 beta_p + sigma3 beta_p^3, beta_p = p pi / L (van Walstijn et al. 2016)
 };
 
 struct DampingParameters
@@ -24,6 +25,8 @@ struct DampingParameters
     double deltaVe = 0.006;   // viscoelastic loss angle
     double qTeInv = 1.38e-4;  // thermoelastic 1/Q, constant
     double sigma = 0.0;       // 1/s, for DampingLaw::constant
+    // DampingLaw::wavenumber: air (1/s), internal friction (m/s) and bending (m^3/s) losses.
+    double sigma0 = 0.0, sigma1 = 0.0, sigma3 = 0.0;
 };
 
 // A measured mode replacing the law's value (the paper measures 36 modes).
