@@ -8,6 +8,7 @@
 //                                              so the projection path, O(M P) a step)
 //   all      (1001, 2 MHz, L/1002), (2003, 4 MHz, L/2004), (4001, 8 MHz, L/4002),
 //            (4001, 16 MHz, L/4002)           (contact points on the solver's own grid)
+//   modes-fine  M = 1001, 2003, 4001 at L/16032 (2 MHz: the points never coarser than the modes)
 //
 // Per pair, with the finer rung as the reference, both outputs low-passed at 20 kHz (as in
 // jawari-accuracy): relL2 over the first 100 ms (or the whole render if shorter), and the
@@ -16,10 +17,11 @@
 // 48 kHz) and N = 1024 (15 frames, 47 Hz bins), so a distance carried by one frame shows.
 // The floor row: the base against itself with the pluck's amplitude raised by 1e-4.
 // CSV to stdout, one row per render (CPU seconds, one core) and per pair; progress to stderr.
-// --cache DIR keeps every render's output, so a long study can run in chunks.
+// --cache DIR keeps every render's output, so a long study can run in chunks. --ladder adds a
+// ladder of its own (modes:rate:intervals per rung); --knobs "" runs only it.
 //
-//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all] [--rungs N]
-//                      [--cache DIR] [--no-floor] [--quick]
+//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine] [--rungs N]
+//                      [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick]
 
 #include "offline/Analysis.h"
 #include "offline/CpuClock.h"
@@ -58,26 +60,42 @@ struct Ladder
     std::vector<Rung> rungs;
 };
 
-std::vector<Ladder> allLadders()
+// `extend`: one rung more on each single knob (8003 modes, 32 MHz, L/8016 and L/16032), all cheap
+// on the projection path with few contact points.
+std::vector<Ladder> allLadders(bool extend)
 {
-    return {{"modes", {{1001, 2e6, 1002}, {2003, 2e6, 1002}, {4001, 2e6, 1002}}},
-            {"rate", {{1001, 2e6, 1002}, {1001, 4e6, 1002}, {1001, 8e6, 1002}, {1001, 16e6, 1002}}},
-            {"spacing", {{1001, 2e6, 1002}, {1001, 2e6, 2004}, {1001, 2e6, 4008}}},
-            {"all", {{1001, 2e6, 1002}, {2003, 4e6, 2004}, {4001, 8e6, 4002}, {4001, 16e6, 4002}}}};
+    std::vector<Ladder> ladders{
+        {"modes", {{1001, 2e6, 1002}, {2003, 2e6, 1002}, {4001, 2e6, 1002}}},
+        {"rate", {{1001, 2e6, 1002}, {1001, 4e6, 1002}, {1001, 8e6, 1002}, {1001, 16e6, 1002}}},
+        {"spacing", {{1001, 2e6, 1002}, {1001, 2e6, 2004}, {1001, 2e6, 4008}}},
+        {"all", {{1001, 2e6, 1002}, {2003, 4e6, 2004}, {4001, 8e6, 4002}, {4001, 16e6, 4002}}},
+        // The modes again with the contact points as fine as the spacing ladder's last rung, so the
+        // string between two points is never finer than the points (projection: off the grid).
+        {"modes-fine", {{1001, 2e6, 16032}, {2003, 2e6, 16032}, {4001, 2e6, 16032}}}};
+    if (extend)
+    {
+        ladders[0].rungs.push_back({8003, 2e6, 1002});
+        ladders[1].rungs.push_back({1001, 32e6, 1002});
+        ladders[2].rungs.push_back({1001, 2e6, 8016});
+        ladders[2].rungs.push_back({1001, 2e6, 16032});
+    }
+    return ladders;
 }
 
 struct Options
 {
     std::string scenePath = std::string(JAWARI_RESOURCES_DIR) + "/Scenes/sitar-bridge.json";
     double duration = 0.1;
-    std::vector<std::string> knobs{"modes", "rate", "spacing", "all"};
+    std::vector<std::string> knobs{"modes", "rate", "spacing", "all", "modes-fine"};
     size_t rungs = 100;
     std::string cacheDir;
     bool floor = true;
+    bool extend = false;
+    std::vector<Rung> custom;  // --ladder: its own rungs, run after the named knobs
 };
 
-const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all]\n"
-                     "                          [--rungs N] [--cache DIR] [--no-floor] [--quick]\n";
+const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine]\n"
+                     "                          [--rungs N] [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick]\n";
 
 std::vector<std::string> splitCommas(const std::string& text)
 {
@@ -106,10 +124,26 @@ bool fail(const std::string& message)
     return false;
 }
 
+// "M:rate:intervals,M:rate:intervals,...": at least two rungs of whole modes and intervals, a rate in Hz.
+bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
+{
+    for (const auto& item : splitCommas(text))
+    {
+        Rung r;
+        char tail = 0;
+        if (std::sscanf(item.c_str(), "%d:%lf:%d%c", &r.modes, &r.rateHz, &r.intervals, &tail) != 3
+            || r.modes < 1 || r.modes > 100000 || !(r.rateHz >= 1e3 && r.rateHz <= 1e9) || r.intervals < 2)
+            return fail("--ladder rung '" + item + "' is not M:rate_hz:intervals (M 1..100000, rate 1e3..1e9 Hz, "
+                        "intervals >= 2)");
+        rungs.push_back(r);
+    }
+    return rungs.size() >= 2 || fail("--ladder needs at least two rungs");
+}
+
 // Reads the command line into `o`; false (after a message) on anything it does not understand.
 bool parseOptions(int argc, char** argv, Options& o)
 {
-    const std::vector<std::string> known{"modes", "rate", "spacing", "all"};
+    const std::vector<std::string> known{"modes", "rate", "spacing", "all", "modes-fine"};
     for (int i = 1; i < argc; ++i)
     {
         const std::string a = argv[i];
@@ -118,7 +152,10 @@ bool parseOptions(int argc, char** argv, Options& o)
             o.rungs = 2;
         else if (a == "--no-floor")
             o.floor = false;
-        else if (a == "--scene" || a == "--duration" || a == "--knobs" || a == "--rungs" || a == "--cache")
+        else if (a == "--extend")
+            o.extend = true;
+        else if (a == "--scene" || a == "--duration" || a == "--knobs" || a == "--rungs" || a == "--cache"
+                 || a == "--ladder")
         {
             if (!hasValue)
                 return fail(a + " needs a value");
@@ -127,6 +164,11 @@ bool parseOptions(int argc, char** argv, Options& o)
                 o.scenePath = v;
             else if (a == "--cache")
                 o.cacheDir = v;
+            else if (a == "--ladder")
+            {
+                if (!parseLadder(v, o.custom))
+                    return false;
+            }
             else if (a == "--duration")
             {
                 o.duration = parseNumber(v);
@@ -142,10 +184,10 @@ bool parseOptions(int argc, char** argv, Options& o)
             }
             else
             {
-                o.knobs = splitCommas(v);
+                o.knobs = *v == '\0' ? std::vector<std::string>{} : splitCommas(v);
                 for (const auto& k : o.knobs)
                     if (std::find(known.begin(), known.end(), k) == known.end())
-                        return fail("unknown knob '" + k + "' (knobs: modes, rate, spacing, all)");
+                        return fail("unknown knob '" + k + "' (knobs: modes, rate, spacing, all, modes-fine)");
             }
         }
         else
@@ -353,9 +395,11 @@ int main(int argc, char** argv)
             const Rung b;
             study.printPair("floor", "amplitude*(1+1e-4)", b, b, study.render(b, 1.0 + 1e-4), study.render(b));
         }
-        for (const auto& ladder : allLadders())
+        for (const auto& ladder : allLadders(options.extend))
             if (std::find(options.knobs.begin(), options.knobs.end(), ladder.name) != options.knobs.end())
                 runLadder(study, ladder, options.rungs);
+        if (!options.custom.empty())
+            runLadder(study, {"custom", options.custom}, options.rungs);
     }
     catch (const std::exception& e)
     {
