@@ -84,6 +84,8 @@ TEST_CASE("a mode damped far beyond its frequency keeps finite coefficients: its
         const double wh = std::sqrt(sigma * sigma - w * w);
         CHECK(c.a == Approx(std::exp(-dt * w * w / (sigma + wh))).epsilon(1e-12));
         CHECK(c.e == Approx(std::exp(-2.0 * sigmaDt)).margin(1e-300));
+        // One step on from rest at 1: the slow root alone.
+        CHECK(freeDampedMotion(1.0, 0.0, w, sigma, dt) == Approx(c.a * (sigma + wh) / (2.0 * wh)).epsilon(1e-12));
     }
 }
 

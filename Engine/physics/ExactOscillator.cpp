@@ -70,8 +70,19 @@ ExactModeCoefficients exactCoefficients(double omega, double sigma, double dt)
     return c;
 }
 
+// The same motion as A e^{r1 t} + B e^{r2 t} with the roots r1,2 = -sigma +- wh, r1 = -omega^2 / (sigma + wh)
+// exactly: for a mode so overdamped that cosh(wh t) overflows.
+double overdampedMotion(double q0, double v0, double omega, double sigma, double t)
+{
+    const double wh = std::sqrt(sigma * sigma - omega * omega);
+    const double r1 = -omega * omega / (sigma + wh), r2 = -(sigma + wh);
+    return (v0 - r2 * q0) / (2.0 * wh) * std::exp(r1 * t) + (r1 * q0 - v0) / (2.0 * wh) * std::exp(r2 * t);
+}
+
 double freeDampedMotion(double q0, double v0, double omega, double sigma, double t)
 {
+    if (sigma > omega && std::sqrt(sigma * sigma - omega * omega) * std::abs(t) > kCoshOverflowGuard)
+        return overdampedMotion(q0, v0, omega, sigma, t);
     const auto [C, S] = propagator(omega, sigma, t);
     return std::exp(-sigma * t) * (q0 * C + (v0 + sigma * q0) * S);
 }
