@@ -45,15 +45,30 @@ double onePlusEMinusA(double omega, double sigma, double dt)
 
 namespace
 {
-// a = 2 E cosh(wh dt) of a heavily overdamped mode as E e^{x} + E e^{-x} with x = wh dt: cosh
-// overflows past x ~ 710 while E underflows (0 * inf), and sigma dt - x = dt omega^2 / (sigma + wh)
-// exactly, so the first term is exp(-dt omega^2 / (sigma + wh)) (the mode's slow decay, < 1).
-constexpr double kCoshOverflowGuard = 700.0;
+// A mode so overdamped that cosh(wh t) overflows while e^{-sigma t} underflows (0 * inf) is
+// stepped from its two real roots, r1,2 = -sigma +- wh with r1 = -omega^2 / (sigma + wh) exactly.
+// The test is on sigma |t| (>= wh |t|) and its own function: the usual path below compiles, and so
+// rounds, as it did without it.
+constexpr double kOverflowGuard = 700.0;
 
-double overdampedA(double omega, double sigma, double dt)
+bool beyondCosh(double omega, double sigma, double t)
+{
+    return sigma * std::abs(t) > kOverflowGuard && sigma > omega;
+}
+
+// a = 2 E cosh(wh dt) = E e^{x} + E e^{-x}, x = wh dt: exp(r1 dt) + exp(r2 dt).
+[[gnu::noinline]] double overdampedA(double omega, double sigma, double dt)
 {
     const double wh = std::sqrt(sigma * sigma - omega * omega);
     return std::exp(-dt * omega * omega / (sigma + wh)) + std::exp(-dt * (sigma + wh));
+}
+
+// The motion A e^{r1 t} + B e^{r2 t} from q0 and v0.
+[[gnu::noinline]] double overdampedMotion(double q0, double v0, double omega, double sigma, double t)
+{
+    const double wh = std::sqrt(sigma * sigma - omega * omega);
+    const double r1 = -omega * omega / (sigma + wh), r2 = -(sigma + wh);
+    return (v0 - r2 * q0) / (2.0 * wh) * std::exp(r1 * t) + (r1 * q0 - v0) / (2.0 * wh) * std::exp(r2 * t);
 }
 }  // namespace
 
@@ -62,26 +77,18 @@ ExactModeCoefficients exactCoefficients(double omega, double sigma, double dt)
     ExactModeCoefficients c;
     const double E = std::exp(-sigma * dt);
     c.e = E * E;
-    const bool hugeOverdamped = sigma > omega && std::sqrt(sigma * sigma - omega * omega) * dt > kCoshOverflowGuard;
-    c.a = hugeOverdamped ? overdampedA(omega, sigma, dt) : 2.0 * E * propagator(omega, sigma, dt).C;
+    c.a = 2.0 * E * propagator(omega, sigma, dt).C;
+    if (beyondCosh(omega, sigma, dt))
+        c.a = overdampedA(omega, sigma, dt);
     c.kineticWeight = 0.5 * (1.0 + c.e);
     c.potentialWeight = onePlusEMinusA(omega, sigma, dt) / (dt * dt);
     c.lossWeight = -std::expm1(-2.0 * sigma * dt);
     return c;
 }
 
-// The same motion as A e^{r1 t} + B e^{r2 t} with the roots r1,2 = -sigma +- wh, r1 = -omega^2 / (sigma + wh)
-// exactly: for a mode so overdamped that cosh(wh t) overflows.
-double overdampedMotion(double q0, double v0, double omega, double sigma, double t)
-{
-    const double wh = std::sqrt(sigma * sigma - omega * omega);
-    const double r1 = -omega * omega / (sigma + wh), r2 = -(sigma + wh);
-    return (v0 - r2 * q0) / (2.0 * wh) * std::exp(r1 * t) + (r1 * q0 - v0) / (2.0 * wh) * std::exp(r2 * t);
-}
-
 double freeDampedMotion(double q0, double v0, double omega, double sigma, double t)
 {
-    if (sigma > omega && std::sqrt(sigma * sigma - omega * omega) * std::abs(t) > kCoshOverflowGuard)
+    if (beyondCosh(omega, sigma, t))
         return overdampedMotion(q0, v0, omega, sigma, t);
     const auto [C, S] = propagator(omega, sigma, t);
     return std::exp(-sigma * t) * (q0 * C + (v0 + sigma * q0) * S);
