@@ -8,7 +8,8 @@ Writes accuracy.png (error against real-time factor, one curve per method, point
 with the floor), accuracy-presets.png (the named settings on every preset's scene, with its floors),
 block-load.png (jawari-soak's per-block load against the block size), stability.png (where each
 method fails), scaling.png (cost against M and against P) and
-polyphony.png (one core's load against the number of sounding strings).
+polyphony.png (one core's load against the number of sounding strings); with a second argument
+`convergence`, convergence.png alone (the reference's refinement study, tools/convergence.sh).
 Needs Debian's python3-matplotlib (tools/charts.sh installs it).
 """
 import csv
@@ -265,8 +266,49 @@ def polyphony_chart(directory):
          "The instrument on one core: tanpura bridge, 48 kHz, 512-sample blocks")
 
 
+LADDER_STYLE = {
+    "modes": ("modes (points L/1002)", "tab:red", "o"),
+    "modes-fine": ("modes (points L/16032)", "tab:orange", "s"),
+    "rate": ("rate", "tab:blue", "^"),
+    "spacing": ("contact spacing", "tab:green", "D"),
+    "all": ("all together", "tab:purple", "x"),
+}
+
+
+def convergence_chart(directory):
+    """The reference's refinement study: each successive pair's LSD against the refinement step,
+    one curve per knob, a panel per scene, with the floor and the 0.3 dB target."""
+    data = rows(os.path.join(directory, "convergence.csv"))
+    scenes = ["sitar-bridge", "tanpura-thread", "parabola-bridge"]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), sharey=True)
+    for ax, scene in zip(axes, scenes):
+        for ladder, (label, colour, marker) in LADDER_STYLE.items():
+            pairs = [r for r in data if r["kind"] == "pair" and r["scene"] == scene and r["ladder"] == ladder]
+            points = [(i + 1, number(r["lsd_db_2048"])) for i, r in enumerate(pairs)]
+            points = [(x, max(y, 1e-3)) for x, y in points if y is not None]  # 0 (never touched) drawn at the axis
+            if points:
+                ax.plot(*zip(*points), marker=marker, color=colour, label=label)
+        floor = [number(r["lsd_db_2048"]) for r in data if r["kind"] == "floor" and r["scene"] == scene]
+        if floor:
+            ax.axhline(floor[0], color="grey", lw=1, ls=":", label="floor (pluck x 1.0001)")
+        ax.axhline(0.3, color="black", lw=1, ls="--", label="0.3 dB target")
+        ax.set_yscale("log")
+        ax.set_title(scene)
+        ax.set_xlabel("refinement step (each x2 of its knob)")
+        ax.set_xticks([1, 2, 3, 4])
+        ax.grid(True, alpha=0.3)
+    axes[0].set_ylabel("LSD between successive refinements, dB (0-100 ms)")
+    axes[0].legend(fontsize=8)
+    save(fig, directory, "convergence.png",
+         "The reference refined from 1001 modes, 2 MHz, points L/1002: does each knob converge?")
+
+
 if __name__ == "__main__":
     directory = sys.argv[1] if len(sys.argv) > 1 else "Resources/Charts"
+    if sys.argv[2:] == ["convergence"]:  # tools/convergence.sh: that chart alone
+        convergence_chart(directory)
+        print(f"wrote convergence.png in {directory}")
+        sys.exit(0)
     accuracy_chart(directory)
     presets_chart(directory)
     block_load_chart(directory)

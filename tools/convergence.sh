@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The reference's refinement study on bridges (docs/measurements.md, "The reference's convergence on
+# bridges"): jawari-convergence on sitar-bridge, tanpura-thread and parabola-bridge, every ladder,
+# into Resources/Charts/convergence.csv (the successive pairs and the floors), and its chart
+# convergence.png. About 40 CPU minutes on one core; renders are cached in build/convergence-cache,
+# so a second run (or one stopped halfway) only renders what is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/deps.sh
+bash tools/build.sh
+bash tools/deps.sh python3-matplotlib  # the plot
+study=./build/Tests/jawari-convergence
+cache=(--cache build/convergence-cache)
+out=$(mktemp)
+run() { "$study" "${cache[@]}" "$@" | grep -E '^(kind|pair|floor),' >> "$out"; }
+for scene in sitar-bridge parabola-bridge tanpura-thread; do
+    run --scene "Resources/Scenes/$scene.json" --knobs modes,rate,spacing,modes-fine --extend
+    run --scene "Resources/Scenes/$scene.json" --knobs all --no-floor
+done
+# The modes at L/16032 one rung further (8003), charted with that ladder.
+run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:2e6:16032,8003:2e6:16032
+sed -i '$ s/^pair,sitar-bridge,custom,/pair,sitar-bridge,modes-fine,/' "$out"
+run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:2e6:16032,4001:4e6:16032,4001:8e6:16032
+run --scene Resources/Scenes/tanpura-thread.json --knobs '' --no-floor --ladder 4001:2e6:1002,4001:4e6:1002,4001:8e6:1002,4001:16e6:1002
+# One header, then the pairs and floors by scene, ladder and rung, coarse to fine.
+{ grep -m1 '^kind,' "$out"; grep -v '^kind,' "$out" | sort -t, -k2,2 -k3,3 -k12,12n -k13,13g -k14,14n; } \
+    > Resources/Charts/convergence.csv
+rm -f "$out"
+/usr/bin/python3 tools/plot_charts.py Resources/Charts convergence
