@@ -175,6 +175,31 @@ void requireOnString(const std::string& path, double x, double L)
                                    + ")");
 }
 
+// string.damping: the law and its constants; a constant given for a law that does not use it is an error.
+void readDamping(const json& j, DampingParameters& dp)
+{
+    ObjectReader d(j, "string.damping");
+    const auto law = d.string("law", "valette", {"valette", "none", "constant", "wavenumber"});
+    dp.law = law == "none"         ? DampingLaw::none
+             : law == "constant"   ? DampingLaw::constant
+             : law == "wavenumber" ? DampingLaw::wavenumber
+                                   : DampingLaw::valette;
+    dp.etaAir = d.nonNegative("eta_air", dp.etaAir);
+    dp.rhoAir = d.nonNegative("rho_air", dp.rhoAir);
+    dp.deltaVe = d.nonNegative("delta_ve", dp.deltaVe);
+    dp.qTeInv = d.nonNegative("q_te_inv", dp.qTeInv);
+    if (d.has("sigma") && dp.law != DampingLaw::constant)
+        throw SceneError(d.at("sigma"), "is only used with law 'constant'");
+    dp.sigma = d.nonNegative("sigma", dp.sigma);
+    for (const char* key : {"sigma0", "sigma1", "sigma3"})
+        if (d.has(key) && dp.law != DampingLaw::wavenumber)
+            throw SceneError(d.at(key), "is only used with law 'wavenumber'");
+    dp.sigma0 = d.nonNegative("sigma0", dp.sigma0);
+    dp.sigma1 = d.nonNegative("sigma1", dp.sigma1);
+    dp.sigma3 = d.nonNegative("sigma3", dp.sigma3);
+    d.rejectUnknown();
+}
+
 void readString(const json& j, Scene& scene)
 {
     ObjectReader r(j, "string");
@@ -185,29 +210,7 @@ void readString(const json& j, Scene& scene)
     s.diameterMetres = r.nonNegative("diameter", s.diameterMetres);
     s.inharmonicity = r.nonNegative("inharmonicity", s.inharmonicity);
     if (r.has("damping"))
-    {
-        ObjectReader d(r.raw("damping"), "string.damping");
-        auto& dp = s.damping;
-        const auto law = d.string("law", "valette", {"valette", "none", "constant", "wavenumber"});
-        dp.law = law == "none"         ? DampingLaw::none
-                 : law == "constant"   ? DampingLaw::constant
-                 : law == "wavenumber" ? DampingLaw::wavenumber
-                                       : DampingLaw::valette;
-        dp.etaAir = d.nonNegative("eta_air", dp.etaAir);
-        dp.rhoAir = d.nonNegative("rho_air", dp.rhoAir);
-        dp.deltaVe = d.nonNegative("delta_ve", dp.deltaVe);
-        dp.qTeInv = d.nonNegative("q_te_inv", dp.qTeInv);
-        if (d.has("sigma") && dp.law != DampingLaw::constant)
-            throw SceneError(d.at("sigma"), "is only used with law 'constant'");
-        dp.sigma = d.nonNegative("sigma", dp.sigma);
-        for (const char* key : {"sigma0", "sigma1", "sigma3"})
-            if (d.has(key) && dp.law != DampingLaw::wavenumber)
-                throw SceneError(d.at(key), "is only used with law 'wavenumber'");
-        dp.sigma0 = d.nonNegative("sigma0", dp.sigma0);
-        dp.sigma1 = d.nonNegative("sigma1", dp.sigma1);
-        dp.sigma3 = d.nonNegative("sigma3", dp.sigma3);
-        d.rejectUnknown();
-    }
+        readDamping(r.raw("damping"), s.damping);
     if (r.has("modes"))
     {
         const json& modes = r.raw("modes");
