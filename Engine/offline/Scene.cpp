@@ -515,7 +515,7 @@ void readSimulation(const json& value, Simulation& simulation)
     {
         const double theta = r.number("residual_compliance_loss", 0.0);
         if (!(theta >= 0.0 && theta <= 1.0))
-            throw SceneError(r.at("residual_compliance_loss"), "must be between 0 and 1 (got " + std::to_string(theta) + ")");
+            throw SceneError(r.at("residual_compliance_loss"), "must be between 0 and 1 (got " + show(theta) + ")");
         simulation.residualComplianceLoss = theta;
     }
     simulation.staticPickup = r.boolean("static_pickup", simulation.staticPickup);

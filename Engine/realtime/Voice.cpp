@@ -78,11 +78,9 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         // The dropped modes' compliance at the obstacles' points stays what it is: the spring acts
         // on the kept modes only, and the compliance is between point forces and displacements.
         const auto compliance = std::move(c.contactCompliance);
-        const double loss = c.complianceLoss;
         c.contactCompliance.clear();
-        c = coupledModesConfig(c, *config.secondPolarisation).config;
+        c = coupledModesConfig(c, *config.secondPolarisation).config;  // complianceLoss carried over
         c.contactCompliance = compliance;
-        c.complianceLoss = loss;
     }
     return c;
 }
@@ -317,7 +315,7 @@ void Voice::setContactLaw(const ContactLaw& law, double heightOffset)
     for (int j = 0; j < solver_.contactCount(); ++j)
         solver_.setContact(j, law, baseHeights_[size_t(j)] + heightOffset);
     if (pulseStep_ < 0 && energyCeiling_ > 0.0)
-        raiseCeiling();  // a stiffer law bears larger forces at the same energy
+        raiseCeiling();  // what the obstacles now hold, and the forces a stiffer law bears at that energy
 }
 
 void Voice::silence()
