@@ -211,3 +211,66 @@ TEST_CASE("points out of the string's reach never touch, and leaving them out ch
     CHECK(worstLeftOut < 0.0);  // measured -5.0e-5 m
     CHECK(relL2 < 1e-12);       // measured 0: the same arithmetic on the points that touch
 }
+
+namespace
+{
+// A bridge on [0, 8 mm] pushing 10 um into the string and DAFx-16's thread beside it at 10 mm
+// (1.2 mm wide, 1.2e5 N/m, `damping` kg/s), both on the solver's own grid of M modes.
+std::vector<Obstacle> bridgeAndDampedThread(double lengthMetres, int M, double damping)
+{
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = 0.004;
+    bridge.width = 0.008;
+    bridge.height = 1e-5;
+    bridge.curvature = 2.0;
+    bridge.law = {1e13, 1.3};
+    bridge.spacing = lengthMetres / (M + 1);
+    Thread thread;
+    thread.model = ThreadModel::springDamper;
+    thread.damping = damping;
+    return {bridge, threadObstacle(thread, 0.010, 0.0, lengthMetres / (M + 1))};
+}
+}  // namespace
+
+TEST_CASE("a damped thread on the reference grid: without its damper the energy is conserved to 1e-9 over 1e5 "
+          "steps; with it the balance holds step by step and the damper only takes",
+          "[thread]")
+{
+    const auto s = test::paperString(DampingLaw::none);
+    const int M = 400;
+    SECTION("its spring alone stores and gives back")
+    {
+        ModalSolver solver(test::gridConfig(s, M, 1e6, bridgeAndDampedThread(s.lengthMetres, M, 0.0)));
+        REQUIRE(solver.contact(solver.contactCount() - 1).law.bilateral);
+        solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.3, 1e-3));
+        const auto d = losslessDrift(solver, 100000);
+        INFO("relative drift " << d.worst << ", bridge contact steps " << d.contactSteps << ", largest contact energy "
+                               << d.largestContactEnergy << " J");
+        CHECK(d.contactSteps > 1000);
+        CHECK(d.largestContactEnergy > 1e-3 * solver.energy().total);  // the thread's spring held some
+        CHECK(d.worst < 1e-9);
+    }
+    SECTION("its damper takes exactly what the balance says, and nothing else is lost")
+    {
+        ModalSolver solver(test::gridConfig(s, M, 1e6, bridgeAndDampedThread(s.lengthMetres, M, 1.2)));
+        solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.3, 1e-3));
+        const double H0 = solver.energy().total;
+        double previous = H0, worstIncrease = -1.0, worstBalance = 0.0, taken = 0.0;
+        for (int n = 0; n < 20000; ++n)
+        {
+            solver.step();
+            const double H = solver.energy().total;
+            const double loss = solver.damperLoss();
+            taken += loss;
+            worstIncrease = std::max(worstIncrease, (H - previous) / H0);
+            worstBalance = std::max(worstBalance, std::abs(H - previous + loss) / H0);
+            previous = H;
+        }
+        INFO("the damper took " << taken / H0 << " of H0; largest step increase " << worstIncrease
+                                << ", worst balance error " << worstBalance);
+        CHECK(taken > 0.01 * H0);
+        CHECK(worstIncrease <= 1e-13);
+        CHECK(worstBalance < 1e-11);
+    }
+}

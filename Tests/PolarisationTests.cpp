@@ -373,7 +373,7 @@ TEST_CASE("A thread laid across a bridge: the string rests on it, the bridge a d
     // A parabola on [0, 10 mm], apex at 5 mm, 20 /m; a 0.2 mm thread 2 mm from its edge.
     const auto scene = parseScene(R"({"format": "jawari-scene/1",
         "obstacles": [{"type": "parabola", "position": 0.005, "width": 0.01, "curvature": 20, "height": 0.5},
-                      {"type": "thread", "bridge": 0, "offset": 0.002, "diameter": 0.0002, "stiffness": 1e12}],
+                      {"type": "thread", "model": "contact", "bridge": 0, "offset": 0.002, "diameter": 0.0002, "stiffness": 1e12}],
         "simulation": {"method": "realtime", "duration": 0.2}})");
     REQUIRE(scene.obstacles.size() == 2);
     const auto& bridge = scene.obstacles[0];

@@ -50,7 +50,12 @@ double hann(size_t i, size_t n)
 }
 }  // namespace
 
-std::vector<double> lowpass(const std::vector<double>& signal, double rateHz, double cutoffHz)
+namespace
+{
+// The signal with each bin of its FFT multiplied by gain(frequency in Hz), real and even: a
+// zero-phase filter (circular over the signal's length).
+template <typename Gain>
+std::vector<double> filteredByBins(const std::vector<double>& signal, double rateHz, Gain&& gain)
 {
     const size_t n = signal.size();
     if (n == 0)
@@ -59,13 +64,64 @@ std::vector<double> lowpass(const std::vector<double>& signal, double rateHz, do
     std::copy(signal.begin(), signal.end(), fft.time);
     fftw_execute(fft.forward);
     for (size_t k = 0; k <= n / 2; ++k)
-        if (double(k) * rateHz / double(n) > cutoffHz)
+    {
+        const double g = gain(double(k) * rateHz / double(n));
+        if (g == 0.0)
             fft.freq[k][0] = fft.freq[k][1] = 0.0;
+        else
+        {
+            fft.freq[k][0] *= g;
+            fft.freq[k][1] *= g;
+        }
+    }
     fftw_execute(fft.backward);
     std::vector<double> out(fft.time, fft.time + n);
     for (double& v : out)
         v /= double(n);
     return out;
+}
+}  // namespace
+
+std::vector<double> lowpass(const std::vector<double>& signal, double rateHz, double cutoffHz)
+{
+    return filteredByBins(signal, rateHz, [&](double f) { return f > cutoffHz ? 0.0 : 1.0; });
+}
+
+std::vector<double> zeroPhaseBand(const std::vector<double>& signal, double rateHz, double lowHz, double highHz,
+                                  int order)
+{
+    const double n2 = 2.0 * order;
+    return filteredByBins(signal, rateHz, [&](double f) {
+        const double highPass = f > 0.0 ? 1.0 / (1.0 + std::pow(lowHz / f, n2)) : 0.0;
+        const double lowPass = 1.0 / (1.0 + std::pow(f / highHz, n2));
+        return highPass * lowPass;
+    });
+}
+
+std::vector<double> precursorLeads(const std::vector<double>& signal, double rateHz, double f1, double seconds,
+                                   double frameSeconds)
+{
+    auto bandEnergy = [&](double low, double high) {
+        auto e = zeroPhaseBand(signal, rateHz, low * f1, high * f1);
+        for (double& v : e)
+            v *= v;
+        return e;
+    };
+    const auto lowBand = bandEnergy(6.0, 12.0), highBand = bandEnergy(24.0, 48.0);
+    const size_t frame = static_cast<size_t>(std::llround(frameSeconds * rateHz)), hop = frame / 2;
+    const size_t end = std::min(signal.size(), static_cast<size_t>(std::llround(seconds * rateHz)));
+    const double w1 = 2.0 * std::numbers::pi * f1 / rateHz, period = 1.0 / f1;
+    // Where in the period a band's energy arrives: the phase of its component at f1.
+    auto arrival = [&](const std::vector<double>& e, size_t begin) {
+        std::complex<double> z;
+        for (size_t i = 0; i < frame; ++i)
+            z += hann(i, frame - 1) * e[begin + i] * std::polar(1.0, -w1 * double(begin + i));
+        return -std::arg(z) / (2.0 * std::numbers::pi) * period;
+    };
+    std::vector<double> leads;
+    for (size_t begin = 0; begin + frame <= end; begin += hop)
+        leads.push_back(std::remainder(arrival(lowBand, begin) - arrival(highBand, begin), period));
+    return leads;
 }
 
 double relativeL2(const std::vector<double>& y, const std::vector<double>& ref, size_t count)

@@ -10,6 +10,20 @@ namespace jawari
 // Ideal low-pass by FFT: every bin above cutoffHz set to zero.
 std::vector<double> lowpass(const std::vector<double>& signal, double rateHz, double cutoffHz);
 
+// Zero-phase band-pass by FFT: each bin weighted by |H|^2 of an order-`order` Butterworth high-pass
+// at lowHz and low-pass at highHz, what running the pair forwards and backwards gives.
+std::vector<double> zeroPhaseBand(const std::vector<double>& signal, double rateHz, double lowHz, double highHz,
+                                  int order = 4);
+
+// The dispersion precursor of a stiff string against its bridge (DAFx-16, their Fig. 7): per frame
+// of frameSeconds (Hann, hop half a frame, over the first `seconds`), how much earlier in each
+// period 1/f1 the energy of the band [24, 48] f1 arrives than that of [6, 12] f1 (s, wrapped to
+// +-1/(2 f1)). Each band's energy is its zero-phase band-pass squared; where it arrives is the phase
+// of its component at f1. Stiffness makes high partials travel faster, so they lead (> 0); a string
+// without stiffness rings after each edge instead (<= 0).
+std::vector<double> precursorLeads(const std::vector<double>& signal, double rateHz, double f1, double seconds = 1.2,
+                                   double frameSeconds = 0.1);
+
 // ||y - ref|| / ||ref|| over the first `count` samples.
 double relativeL2(const std::vector<double>& y, const std::vector<double>& ref, size_t count);
 

@@ -36,6 +36,11 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
     s.config =
         stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
     s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
+    if (const auto& force = scene.excitation.force)
+    {
+        s.config.excitationPosition = force->position;
+        s.config.excitationShape = forcePluckModalShape(scene.string.lengthMetres, M, *force);
+    }
     if (const auto& second = scene.secondPolarisation)
     {
         // Both polarisations: the pluck along its angle, cos to the vertical and sin to the other.
@@ -55,10 +60,13 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
 
 // Steps the solver, handing each internal sample of the pickup quantity to `sink`, and each
 // step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt.
+// A force pluck pushes at each step's start.
 template <typename Sink, typename AfterStep>
-void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderStats& stats,
-         const RenderOptions& options, Sink&& sink, AfterStep&& afterStep)
+void run(ModalSolver& solver, const Scene& scene, long long steps, RenderStats& stats, const RenderOptions& options,
+         Sink&& sink, AfterStep&& afterStep)
 {
+    const PickupQuantity quantity = scene.pickup.quantity;
+    const auto& force = scene.excitation.force;
     ScopedFlushDenormals noDenormals;
     const double dt = solver.timeStep();
     // The pluck starts from rest, so the velocity at n = 0 is 0 exactly.
@@ -68,6 +76,8 @@ void run(ModalSolver& solver, PickupQuantity quantity, long long steps, RenderSt
     const long long progressEvery = 1 << 16;
     for (long long n = 0; n < steps; ++n)
     {
+        if (force)  // explicit in the step from t^n (ModalSolver::setExternalForce)
+            solver.setExternalForce(forcePluckNewtons(*force, double(n) * dt));
         solver.step();
         const double yNext = solver.pickup();
         double sample = y;
@@ -203,7 +213,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     std::vector<double> out;
     out.reserve(static_cast<size_t>(steps));
     run(
-        solver, scene.pickup.quantity, steps, stats, options, [&](double v) { out.push_back(v); },
+        solver, scene, steps, stats, options, [&](double v) { out.push_back(v); },
         [](long long, int) {});
     if (statsOut)
         *statsOut = stats;
@@ -319,7 +329,7 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     if (options.logEnergy)
         log.emplace(solver, setup.rateHz, result.outputRateHz, outputCount, result.energy);
     run(
-        solver, scene.pickup.quantity, steps, result.stats, options, [&](double v) { output.push(v); },
+        solver, scene, steps, result.stats, options, [&](double v) { output.push(v); },
         [&](long long n, int iterations) {
             if (log)
                 log->afterStep(n, iterations);

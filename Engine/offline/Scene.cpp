@@ -266,22 +266,72 @@ SecondPolarisation readSecondPolarisation(const json& j)
     return second;
 }
 
+// The thread's model and its law: "spring_damper" (the default: width, and stiffness N/m and
+// damping kg/s in all, by DAFx-16's rule from the width unless given) or "contact" (a contact law).
+Thread readThreadModel(ObjectReader& r)
+{
+    Thread thread;
+    const auto model = r.string("model", "spring_damper", {"spring_damper", "contact"});
+    if (model == "contact")
+    {
+        thread.model = ThreadModel::contact;
+        thread.law = readContactLaw(r);
+        return thread;
+    }
+    thread.model = ThreadModel::springDamper;
+    if (r.has("exponent"))
+        throw SceneError(r.at("exponent"), "has no meaning for a spring_damper thread (it is linear); "
+                                           "\"model\": \"contact\" takes a contact law");
+    thread.width = r.positive("width", thread.width);
+    thread.stiffness = r.positive("stiffness", threadStiffnessForWidth(thread.width));
+    thread.damping = r.nonNegative("damping", threadDampingForStiffness(thread.stiffness));
+    return thread;
+}
+
+// A distributed obstacle's contact spacing (m), 0 (the default grid) when not given.
+double readSpacing(ObjectReader& r, double L)
+{
+    if (!r.has("spacing"))
+        return 0.0;
+    const double spacing = r.positive("spacing", 0.0);
+    if (!(spacing <= 0.5 * L && spacing >= L * 1e-6))
+        throw SceneError(r.at("spacing"), "must be between L/1e6 and L/2 (" + show(L * 1e-6) + " to " + show(0.5 * L)
+                                              + " m), got " + show(spacing));
+    return spacing;
+}
+
+// A thread standing alone at `position`, its top at `height` (DAFx-16's, between the string's end
+// and its bridge).
+Obstacle readFreeThread(ObjectReader& r, double L)
+{
+    Thread thread = readThreadModel(r);
+    const double position = r.number("position", 0.0);
+    requireOnString(r.at("position"), position, L);
+    const double height = r.number("height", 0.0);
+    if (thread.model == ThreadModel::contact)
+        thread.diameter = r.positive("diameter", thread.diameter);
+    const double spacing = readSpacing(r, L);
+    r.rejectUnknown();
+    return threadObstacle(thread, position, height, spacing);
+}
+
 // A thread across an earlier bridge (obstacles[bridge]), which it moves so that the string rests
 // on the thread (layThread). One thread per bridge.
 Obstacle readThread(const json& j, const std::string& path, std::vector<Obstacle>& before,
-                    std::vector<bool>& threaded)
+                    std::vector<bool>& threaded, double L)
 {
     ObjectReader r(j, path);
     r.string("type", "thread", {"thread"});
+    if (r.has("position") && !r.has("bridge"))
+        return readFreeThread(r, L);
     const auto index = r.integer("bridge");
     if (!index || *index < 0 || *index >= static_cast<long long>(before.size())
-        || !before[size_t(*index)].isDistributed())
+        || !before[size_t(*index)].isDistributed() || before[size_t(*index)].type == ObstacleType::band)
         throw SceneError(r.at("bridge"), "must be the index of a bridge (a parabola or a profile) earlier in obstacles");
     if (threaded[size_t(*index)])
         throw SceneError(r.at("bridge"), "already has a thread");
     Obstacle& bridge = before[size_t(*index)];
-    Thread thread;
-    thread.law = readContactLaw(r);
+    Thread thread = readThreadModel(r);
     thread.offset = r.nonNegative("offset", thread.offset);
     thread.diameter = r.positive("diameter", thread.diameter);
     if (!threadFitsBridge(bridge, thread.offset))
@@ -343,13 +393,8 @@ Obstacle readObstacle(const json& j, const std::string& path, double L)
                 throw SceneError(here, "must be greater than the previous x (x must increase strictly)");
         }
     }
-    if (ob.isDistributed() && r.has("spacing"))
-    {
-        ob.spacing = r.positive("spacing", 0.0);
-        if (!(ob.spacing <= 0.5 * L && ob.spacing >= L * 1e-6))
-            throw SceneError(r.at("spacing"), "must be between L/1e6 and L/2 (" + show(L * 1e-6) + " to "
-                                                  + show(0.5 * L) + " m), got " + show(ob.spacing));
-    }
+    if (ob.isDistributed())
+        ob.spacing = readSpacing(r, L);
     r.rejectUnknown();
     return ob;
 }
@@ -436,6 +481,18 @@ void validateScene(const Scene& scene)
                              "mode " + std::to_string(scene.string.modeOverrides[i].number)
                                  + " is above the simulated modes (" + std::to_string(modes) + ")");
     requireOnString("excitation.position", scene.excitation.position, L);
+    if (const auto& force = scene.excitation.force)
+    {
+        if (force->position - 0.5 * force->width < 0.0 || force->position + 0.5 * force->width > L)
+            throw SceneError("excitation.width", "spreads the force [position - width/2, position + width/2] = ["
+                                                     + show(force->position - 0.5 * force->width) + ", "
+                                                     + show(force->position + 0.5 * force->width)
+                                                     + "] m off the string [0, " + show(L) + "]");
+        if (!scene.simulation.reference)
+            throw SceneError("excitation.type", "\"force\" is rendered by the reference only (\"method\": \"reference\")");
+        if (scene.secondPolarisation)
+            throw SceneError("excitation.type", "\"force\" pushes one polarisation: the scene has a second_polarisation");
+    }
     if (scene.excitation.angle != 0.0 && !scene.secondPolarisation)
         throw SceneError("excitation.angle", "turns the pluck out of the vertical: it needs a second_polarisation");
     if (const auto& second = scene.secondPolarisation)
@@ -466,7 +523,7 @@ void readObstacles(const json& obs, Scene& scene)
     {
         const std::string path = "obstacles[" + std::to_string(i) + "]";
         const bool thread = obs[i].is_object() && obs[i].contains("type") && obs[i]["type"] == "thread";
-        scene.obstacles.push_back(thread ? readThread(obs[i], path, scene.obstacles, threaded)
+        scene.obstacles.push_back(thread ? readThread(obs[i], path, scene.obstacles, threaded, scene.string.lengthMetres)
                                          : readObstacle(obs[i], path, scene.string.lengthMetres));
         threaded.push_back(false);
     }
@@ -475,9 +532,22 @@ void readObstacles(const json& obs, Scene& scene)
 void readExcitation(const json& value, Excitation& excitation)
 {
     ObjectReader r(value, "excitation");
-    r.string("type", "pluck", {"pluck"});
+    const auto type = r.string("type", "pluck", {"pluck", "force"});
     excitation.position = r.number("position", excitation.position);
-    excitation.amplitude = r.number("amplitude", excitation.amplitude);
+    if (type == "force")
+    {
+        ForcePluck force;
+        force.position = excitation.position;
+        force.amplitude = r.number("amplitude", force.amplitude);
+        force.width = r.nonNegative("width", force.width);
+        force.duration = r.positive("duration", force.duration);
+        force.steepness = r.positive("steepness", force.steepness);
+        force.start = r.nonNegative("start", force.start);
+        excitation.force = force;
+        excitation.amplitude = 0.0;  // from rest
+    }
+    else
+        excitation.amplitude = r.number("amplitude", excitation.amplitude);
     excitation.angle = r.number("angle", excitation.angle);
     r.rejectUnknown();
 }

@@ -4,6 +4,7 @@
 // "obstacles[1].stiffness: must be > 0 (got -3)". OFF.
 
 #include "physics/ContactMethod.h"
+#include "physics/ForcePluck.h"
 #include "physics/Obstacle.h"
 #include "physics/Pickup.h"
 #include "physics/Polarisations.h"
@@ -35,6 +36,9 @@ struct Excitation
     double position = 0.501;    // m
     double amplitude = 1.5e-3;  // m, triangular shape, zero velocity
     double angle = 0.0;         // rad from the vertical (two polarisations: cos to the vertical, sin to the other)
+    // Instead of the triangle: the string from rest, pushed by DAFx-16's force pluck (its position
+    // the excitation's). The reference only, one polarisation.
+    std::optional<ForcePluck> force;
 };
 
 struct Pickup

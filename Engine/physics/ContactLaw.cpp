@@ -8,8 +8,29 @@
 namespace jawari
 {
 
+namespace
+{
+// The bilateral law's affine G: the spring's chord K (s + p)/2 with p = s - r, and the damper.
+ChordSlope bilateralSlope(const ContactLaw& law, double s, double r)
+{
+    const double spring = 0.5 * law.stiffness;
+    return {-law.stiffness * s + (spring + law.stepDamping) * r, spring + law.stepDamping};
+}
+}  // namespace
+
+ContactLaw solverLaw(const ContactLaw& law, double dt)
+{
+    ContactLaw out = law;
+    out.stepDamping = law.bilateral ? law.damping / (2.0 * dt) : 0.0;
+    if (law.bilateral)
+        out.exponent = 1.0;
+    return out;
+}
+
 double contactPotential(const ContactLaw& law, double penetration)
 {
+    if (law.bilateral)
+        return 0.5 * law.stiffness * penetration * penetration;
     if (penetration <= 0.0)
         return 0.0;
     const double beta = law.exponent + 1.0;
@@ -132,7 +153,7 @@ double powerOf(double s, double alpha, const KnownPower* known)
 KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& law, double r)
 {
     const double p = s - r;
-    if (!(p >= 0.5 * s && p > 0.0))
+    if (law.bilateral || !(p >= 0.5 * s && p > 0.0))
         return {};
     // p^beta = s^beta + D (p - s) with D = -beta G / K, so p^alpha = (s^beta - D r) / p.
     const double D = -(law.exponent + 1.0) * slope / law.stiffness;
@@ -142,12 +163,17 @@ KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& la
 
 ChordSlope chordSlope(const ContactLaw& law, double s, double r)
 {
+    if (law.bilateral)
+        return bilateralSlope(law, s, r);
     return chordSlope(law, dividedSeries(law.exponent), s, s > 0.0 ? std::pow(s, law.exponent) : 0.0, r);
 }
+
 
 ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
                       KnownPower* anchor)
 {
+    if (law.bilateral)
+        return bilateralSlope(law, s, r);
     const double p = s - r;  // penetration at n+1
     if (s <= 0.0 && p <= 0.0)
         return {};  // out of contact at both ends
@@ -297,6 +323,13 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
                                          const DividedSeries* series, const KnownPower* known)
 {
     ScalarContactSolution sol;
+    if (law.bilateral)
+    {
+        const ChordSlope atZero = bilateralSlope(law, s, 0.0);
+        sol.r = (b - k * atZero.value) / (1.0 + k * atZero.derivative);
+        sol.slope = bilateralSlope(law, s, sol.r).value;
+        return sol;
+    }
     if (s <= 0.0 && s - b <= 0.0)
     {
         // Out of contact at both ends with the contact-free prediction: G(b) = 0, so r = b exactly.

@@ -4,6 +4,10 @@
 //
 //   psi(u) = K/(alpha+1) [g - u]_+^(alpha+1),   f = -dpsi/du = K [g - u]_+^alpha   (per metre)
 //
+// A bilateral law is a linear spring-damper the string never leaves (the damped thread of van
+// Walstijn, Bridges & Mehes, DAFx-16): psi = (K/2) (g - u)^2 on both sides (alpha = 1) and a damper
+// f = -R du/dt, discretised as -R (u^{n+1} - u^{n-1}) / (2 dt), which only dissipates.
+//
 // Everything here is RT: pure arithmetic, no allocation.
 
 namespace jawari
@@ -12,10 +16,18 @@ namespace jawari
 struct ContactLaw
 {
     double stiffness = 1e13;  // K, N/m^(1+alpha)
-    double exponent = 1.3;    // alpha >= 1
+    double exponent = 1.3;    // alpha >= 1 (1 when bilateral)
+    bool bilateral = false;   // a spring-damper the string never leaves (above)
+    double damping = 0.0;     // R, kg/(s m): the bilateral law's damper, per metre of string
+    // R / (2 dt): the damper's force per metre per metre of r = u^{n+1} - u^{n-1}, set by the solver
+    // from `damping` and its time step (solverLaw); 0 outside a solver.
+    double stepDamping = 0.0;
 };
 
-// psi as a function of the penetration g - u (J/m).
+// The law as a solver of time step dt uses it: stepDamping = damping / (2 dt).
+ContactLaw solverLaw(const ContactLaw& law, double dt);
+
+// psi as a function of the penetration g - u (J/m); (K/2) p^2 on both sides when bilateral.
 double contactPotential(const ContactLaw& law, double penetration);
 
 // The largest force density K p^alpha a point of weight w (m) can bear while its energy w psi(p)
@@ -76,7 +88,7 @@ double powerOf(double s, double alpha, const KnownPower* known);
 KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& law, double r);
 
 // Solves  r + k G(r) = b  (k > 0): the scalar contact equation of docs/design.md section 2.
-// Out of contact, or leaving it (the root has the string off the obstacle at n+1), the root is in
+// A bilateral law's G is affine: r = (b + k K s) / (1 + k (K/2 + R/(2 dt))) at once. Out of contact, or leaving it (the root has the string off the obstacle at n+1), the root is in
 // closed form. In contact at n+1 it is found in the penetration p = s - r in (0, d], d = s - b:
 //   Phi(p) = (k K / beta) D(p) + p - d = 0.
 // Phi is increasing and convex for alpha >= 1 (D is the mean of psi' between s and p, and the

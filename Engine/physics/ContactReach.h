@@ -7,7 +7,7 @@
 // obstacle lies further below than sqrt(H) reach_j cannot touch until H is measured again. H is
 // measured every kCheckSteps steps, and at once after anything that can raise it (markStale(): a
 // retune, a new height or law, the release, a new state); an external force keeps every point live
-// (wakeAll()).
+// (wakeAll()). A bilateral point (the damped thread) is always live: the string never leaves it.
 
 #include "physics/ExactOscillator.h"
 #include "physics/Obstacle.h"
@@ -51,7 +51,8 @@ public:
         liveCount_ = 0;
         for (int j = 0; j < static_cast<int>(contacts.size()); ++j)
         {
-            const bool reachable = !(contacts[size_t(j)].height + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
+            const bool reachable = contacts[size_t(j)].law.bilateral  // never left
+                                   || !(contacts[size_t(j)].height + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
             if (reachable)
             {
                 if (!live_[size_t(j)])

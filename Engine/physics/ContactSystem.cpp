@@ -85,7 +85,7 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
     for (int k = 0; k < count; ++k)
     {
         const int j = points[k];
-        if (s[j] > 0.0 || s[j] - b[j] > 0.0)
+        if (points_[size_t(j)].law.bilateral || s[j] > 0.0 || s[j] - b[j] > 0.0)
             active_.push_back(j);
     }
     int iterations = 0;
@@ -121,6 +121,9 @@ void ContactSystem::scalarRequest(int j, double s, double b, ScalarContactReques
     // Field by field: a caller's request is read back field by field (ContactLaneBatch::add).
     request.law.stiffness = points_[size_t(j)].law.stiffness;
     request.law.exponent = points_[size_t(j)].law.exponent;
+    request.law.bilateral = points_[size_t(j)].law.bilateral;
+    request.law.damping = points_[size_t(j)].law.damping;
+    request.law.stepDamping = points_[size_t(j)].law.stepDamping;
     request.s = s;
     request.b = b;
     request.k = A_(j, j);
@@ -164,7 +167,7 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];
-        if (i != a && !(s[i] - (b[i] - A_(i, a) * sol.slope) <= 0.0))
+        if (i != a && (points_[size_t(i)].law.bilateral || !(s[i] - (b[i] - A_(i, a) * sol.slope) <= 0.0)))
             return false;
     }
     for (int k = 0; k < listedCount_; ++k)
@@ -191,7 +194,7 @@ bool ContactSystem::solveOnePresser(const double* s, const double* b, double* r,
     {
         if (s[a] - b[a] > s[deepest] - b[deepest])
             deepest = a;
-        if (s[a] > 0.0)
+        if (s[a] > 0.0 || points_[size_t(a)].law.bilateral)
         {
             if (inContact >= 0)
                 return false;  // two in contact at n-1: the Newton

@@ -89,7 +89,8 @@ double ModalSolver::obstacleEnergy() const
 double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly) const
 {
     auto psi = [&](int j, double penetration) {
-        return method_ == ContactMethod::quadraticSpline ? splines_[size_t(j)].potential(penetration)
+        return method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
+                   ? splines_[size_t(j)].potential(penetration)
                                                          : contactPotential(contacts_[j].law, penetration);
     };
     double sum = 0.0;
@@ -167,14 +168,15 @@ void ModalSolver::updateCouplings()
 void ModalSolver::setContact(int j, const ContactLaw& law, double height)
 {
     const bool lawChanged = contacts_[size_t(j)].law.stiffness != law.stiffness
-                            || contacts_[size_t(j)].law.exponent != law.exponent;
+                            || contacts_[size_t(j)].law.exponent != law.exponent
+                            || contacts_[size_t(j)].law.bilateral != law.bilateral;
     if (contacts_[size_t(j)].height != height)
         wakeAll();  // a sleeping point may now be within reach
     reach_.markStale();  // and the obstacles' energy is another
-    contacts_[size_t(j)].law = law;
+    contacts_[size_t(j)].law = solverLaw(law, dt_);
     contacts_[size_t(j)].height = height;
-    system_.setLaw(j, law);
-    if (method_ == ContactMethod::quadraticSpline && lawChanged)
+    system_.setLaw(j, contacts_[size_t(j)].law);
+    if (method_ == ContactMethod::quadraticSpline && lawChanged && !law.bilateral)
         splines_[size_t(j)].setLaw(law);
 }
 
@@ -236,7 +238,8 @@ void ModalSolver::finishPairStep()
         uCPrev_[0] = uC_[0];
         uC_[0] = pairU_ - stringCoupling_(0, 0) * G;
         compliance_.advance(slope_.data());
-        lastPenetration_ = contacts_[0].height - uC_[0] - compliance_.delta(0);
+        lastPenetration_ = contacts_[0].law.bilateral ? -std::numeric_limits<double>::infinity()
+                                                      : contacts_[0].height - uC_[0] - compliance_.delta(0);
         c = -forceScale_ * contacts_[0].weight * G;
         for (auto& pickup : pickups_)
             pickup.press(0, G);
@@ -256,7 +259,9 @@ int ModalSolver::solveSplines()
     int most = 0;
     for (int j = 0; j < P_; ++j)
     {
-        const auto sol = splines_[size_t(j)].solve(s_[j], b_[j], system_.coupling()(j, j));
+        const double k = system_.coupling()(j, j);
+        const auto sol = contacts_[j].law.bilateral ? solveScalarContact(contacts_[j].law, s_[j], b_[j], k)
+                                                    : splines_[size_t(j)].solve(s_[j], b_[j], k);
         r_[j] = sol.r;
         slope_[j] = sol.slope;
         most = std::max(most, sol.iterations);
@@ -398,7 +403,8 @@ void ModalSolver::endSingleStep()
         const double u = uTilde_[j];
         uCPrev_[j] = uC_[j];
         uC_[j] = u;
-        deepest = std::max(deepest, contacts_[j].height - u - compliance_.delta(j));
+        if (!contacts_[j].law.bilateral)  // a spring-damper's stretch is no penetration
+            deepest = std::max(deepest, contacts_[j].height - u - compliance_.delta(j));
     }
     lastPenetration_ = deepest;
     state_.swapSingle();
@@ -428,6 +434,17 @@ double ModalSolver::stepLoss(const double* next, const double* previous) const
         sum += coeffs_[p].lossWeight * v * v;
     }
     return mu_ * sum;
+}
+
+double ModalSolver::damperLoss() const
+{
+    if (method_ == ContactMethod::penalty || method_ == ContactMethod::quadratised)
+        return 0.0;
+    double sum = 0.0;
+    for (int j = 0; j < P_; ++j)
+        if (contacts_[j].law.bilateral)
+            sum += contacts_[j].weight * contacts_[j].law.stepDamping * r_[j] * r_[j];
+    return 0.5 * sum;  // H^{n+1/2} - H^{n-1/2} takes half the work f r over the two-step r
 }
 
 ModalSolver::Energy ModalSolver::energy()

@@ -189,7 +189,8 @@ public:
     double pickup() const { return pickups_[0].value; }              // RT: sum h_p q_p^n
     double secondPickup() const { return pickups_[1].value; }        // RT: the second pickup's, 0 without one
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
-    double lastMaxPenetration() const { return lastPenetration_; }  // RT: max_j g_j - u_j^n (m)
+    // RT: max_j g_j - u_j^n (m) over the unilateral points
+    double lastMaxPenetration() const { return lastPenetration_; }
 
     // OFF: the full modal state, q^n (previous = false) or q^{n-1}.
     std::vector<double> modalState(bool previous = false);
@@ -205,6 +206,10 @@ public:
     // The losses of a step for full states (q^{n+1}, q^{n-1}):
     //   H^{n+1/2} - H^{n-1/2} = -sum mu (1-e_p) ((q^{n+1}-q^{n-1})/(2dt))^2.
     double stepLoss(const double* next, const double* previous) const;
+    // RT: what the bilateral points' dampers took in the last step (J), sum_j w_j (R_j / 2dt) r_j^2 / 2
+    // with r_j = u_j^{n+1} - u_j^{n-1}: the rest of the balance. 0 for the penalty and quadratised
+    // methods, which drop the dampers.
+    double damperLoss() const;
 
     const std::vector<ExactModeCoefficients>& coefficients() const { return coeffs_; }
 

@@ -25,6 +25,8 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
         throw std::invalid_argument("the modal solver needs at least one mode");
     if (!(dt_ > 0.0) || !(mu_ > 0.0) || !(config.lengthMetres > 0.0))
         throw std::invalid_argument("the modal solver needs a positive time step, density and length");
+    for (auto& c : contacts_)
+        c.law = solverLaw(c.law, dt_);
     buildModeTables(config);
     for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &penetration_, &pointForce_})
         v->assign(P_, 0.0);
@@ -164,7 +166,7 @@ void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::
             throw std::invalid_argument("the quadratic-spline contact needs decoupled contact points: one point, "
                                         "or a distributed obstacle on the reference grid");
         for (const auto& c : contacts_)
-            splines_.emplace_back(c.law);
+            splines_.emplace_back(c.law);  // a bilateral point's stays unused: its equation is linear
     }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <numbers>
 #include <stdexcept>
 
 namespace jawari
@@ -25,12 +26,31 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
         bridge.height += shift;
     for (double& h : bridge.profileHeight)
         h += shift;
+    // 0 where the thread carries the string.
+    return threadObstacle(thread, x, threadTop - rest, bridge.spacing);
+}
+
+Obstacle threadObstacle(const Thread& thread, double position, double height, double spacing)
+{
     Obstacle point;
-    point.type = ObstacleType::point;
-    point.position = x;
-    point.height = threadTop - rest;  // 0 where the thread carries the string
-    point.width = thread.diameter;
-    point.law = thread.law;
+    point.position = position;
+    point.height = height;
+    if (thread.model == ThreadModel::contact)
+    {
+        point.type = ObstacleType::point;
+        point.width = thread.diameter;
+        point.law = thread.law;
+        return point;
+    }
+    if (!(thread.width > 0.0) || !(thread.stiffness > 0.0) || !(thread.damping >= 0.0))
+        throw std::invalid_argument("the thread's width and stiffness must be > 0 and its damping >= 0");
+    point.type = ObstacleType::band;
+    point.width = thread.width;
+    point.spacing = spacing;
+    point.law.bilateral = true;
+    point.law.exponent = 1.0;
+    point.law.stiffness = thread.stiffness / thread.width;
+    point.law.damping = thread.damping / thread.width;
     return point;
 }
 
@@ -46,7 +66,8 @@ double Obstacle::supportBegin() const
     {
         case ObstacleType::point: return position;
         case ObstacleType::profile: return profileX.empty() ? 0.0 : profileX.front();
-        case ObstacleType::parabola: return position - 0.5 * width;
+        case ObstacleType::parabola:
+        case ObstacleType::band: return position - 0.5 * width;
     }
     return position;
 }
@@ -57,7 +78,8 @@ double Obstacle::supportEnd() const
     {
         case ObstacleType::point: return position;
         case ObstacleType::profile: return profileX.empty() ? 0.0 : profileX.back();
-        case ObstacleType::parabola: return position + 0.5 * width;
+        case ObstacleType::parabola:
+        case ObstacleType::band: return position + 0.5 * width;
     }
     return position;
 }
@@ -66,7 +88,8 @@ double Obstacle::highestHeight() const
 {
     switch (type)
     {
-        case ObstacleType::point: return height;
+        case ObstacleType::point:
+        case ObstacleType::band: return height;
         case ObstacleType::parabola:  // the apex is the support's centre
             return curvature >= 0.0 ? height : std::max(heightAt(supportBegin()), heightAt(supportEnd()));
         case ObstacleType::profile:
@@ -79,7 +102,8 @@ double Obstacle::heightAt(double x) const
 {
     switch (type)
     {
-        case ObstacleType::point: return height;
+        case ObstacleType::point:
+        case ObstacleType::band: return height;
         case ObstacleType::parabola:
         {
             const double d = x - position;
@@ -99,6 +123,38 @@ double Obstacle::heightAt(double x) const
     }
     return height;
 }
+
+namespace
+{
+// A band's points: the nodes i spacing strictly inside it, weighted by the raised cosine, or one
+// point at its centre. solverNode(x) gives the solver's node at x or -1; dx is the solver's spacing.
+template <typename SolverNode>
+void addBandPoints(const Obstacle& band, double spacing, int intervals, double dx, SolverNode&& solverNode,
+                   std::vector<ContactPoint>& points)
+{
+    const int first = std::max(1, static_cast<int>(std::floor(band.supportBegin() / spacing + 1e-9)) + 1);
+    const int last = std::min(intervals - 1, static_cast<int>(std::ceil(band.supportEnd() / spacing - 1e-9)) - 1);
+    const size_t start = points.size();
+    double sum = 0.0;
+    for (int i = first; i <= last; ++i)
+    {
+        const int node = solverNode(i * spacing);
+        const double at = node >= 0 ? node * dx : i * spacing;
+        const double psi = std::cos(std::numbers::pi * (at - band.position) / band.width);
+        if (!(psi > 0.0))
+            continue;
+        points.push_back({at, psi, band.height, band.law, node});
+        sum += psi;
+    }
+    if (points.size() == start)
+    {
+        points.push_back({band.position, band.width, band.height, band.law, solverNode(band.position)});
+        return;
+    }
+    for (size_t k = start; k < points.size(); ++k)
+        points[k].weight *= band.width / sum;
+}
+}  // namespace
 
 int contactGridIntervals(const Obstacle& obstacle, double lengthMetres)
 {
@@ -126,6 +182,11 @@ std::vector<ContactPoint> contactPointsOnGrid(const std::vector<Obstacle>& obsta
         }
         const int intervals = contactGridIntervals(ob, lengthMetres);
         const double spacing = lengthMetres / intervals;
+        if (ob.type == ObstacleType::band)
+        {
+            addBandPoints(ob, spacing, intervals, dx, solverNode, points);
+            continue;
+        }
         const int first = std::max(1, static_cast<int>(std::ceil(ob.supportBegin() / spacing - 1e-9)));
         const int last = std::min(intervals - 1, static_cast<int>(std::floor(ob.supportEnd() / spacing + 1e-9)));
         for (int i = first; i <= last; ++i)

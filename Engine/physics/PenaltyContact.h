@@ -1,6 +1,7 @@
 #pragma once
 // The explicit penalty contact (docs/design.md section 4): the force at u^n, f^n = K [g - u^n]_+^alpha,
-// with no solve. Cheap, and unstable once K dt^2 / mu is large (the stability map charts where).
+// with no solve. Cheap, and unstable once K dt^2 / mu is large (the stability map charts where). A
+// bilateral law (ContactLaw.h) gives its spring's K (g - u^n) and drops its damper.
 
 #include "physics/Obstacle.h"
 

@@ -40,7 +40,13 @@ int QuadratisedContact::solve(const std::vector<ContactPoint>& contacts, const d
     for (int j = 0; j < P; ++j)
     {
         const auto& law = contacts[j].law;
-        if (penetration[j] > 0.0)
+        if (law.bilateral)  // the spring on both sides; its damper dropped
+        {
+            touching = true;
+            V += contacts[j].weight * contactPotential(law, penetration[j]);
+            gradient_[j] = -contacts[j].weight * law.stiffness * penetration[j];
+        }
+        else if (penetration[j] > 0.0)
         {
             touching = true;
             V += contacts[j].weight * contactPotential(law, penetration[j]);

@@ -1,6 +1,7 @@
 #pragma once
 // The energy-quadratised contact (scalar auxiliary variable; Ducceschi & Bilbao 2019; docs/design.md
-// section 4): no Newton, one rank-one solve a step, and a quadratised energy conserved exactly.
+// section 4): no Newton, one rank-one solve a step, and a quadratised energy conserved exactly. A
+// bilateral law (ContactLaw.h) joins V with its spring and drops its damper.
 //
 // V(u) = sum_j w_j psi_j(u_j) = xi^2 / 2 with xi carried as a state. With g = dV/du / sqrt(2 V)
 // at u^n, the point forces are F = -g (xi^{n+1} + xi^{n-1}) / 2 and xi^{n+1} = xi^{n-1} + g . R,

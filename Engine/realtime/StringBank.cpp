@@ -36,7 +36,7 @@ void StringBank::processGroup(Voice* const* voices, double* const* out, double* 
 
 // Every string's step up to its contact solve; the equations into the lanes, in order. A batch
 // takes the exponent of its first equation (the instrument's strings share one); an equation of
-// another exponent is solved alone at once.
+// another exponent, or of a bilateral law (closed form), is solved alone at once.
 void StringBank::gather(Voice* const* voices, int count)
 {
     for (auto& batch : batches_)
@@ -58,7 +58,7 @@ void StringBank::gather(Voice* const* voices, int count)
             batch->exponent = request.law.exponent;
             batch->series = request.series;
         }
-        if (solve_ == Solve::scalar || request.law.exponent != batch->exponent)
+        if (solve_ == Solve::scalar || request.law.bilateral || request.law.exponent != batch->exponent)
         {
             alone_[size_t(i)] = solveScalarContact(request);
             lane_[size_t(i)] = kMaxStrings + i;  // marks "solved alone"

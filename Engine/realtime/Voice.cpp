@@ -313,7 +313,11 @@ void Voice::retune(double ratio, const double* sigma)
 void Voice::setContactLaw(const ContactLaw& law, double heightOffset)
 {
     for (int j = 0; j < solver_.contactCount(); ++j)
-        solver_.setContact(j, law, baseHeights_[size_t(j)] + heightOffset);
+    {
+        const ContactLaw& own = solver_.contact(j).law;
+        // The damped thread keeps its own law and moves with the bridge.
+        solver_.setContact(j, own.bilateral ? own : law, baseHeights_[size_t(j)] + heightOffset);
+    }
     if (pulseStep_ < 0 && energyCeiling_ > 0.0)
         raiseCeiling();  // what the obstacles now hold, and the forces a stiffer law bears at that energy
 }
