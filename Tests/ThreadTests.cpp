@@ -186,3 +186,51 @@ TEST_CASE("DAFx-16's C3 string: the precursor's centroid falls, faster with the 
     INFO("the end force's energy above the 10th partial: " << without << " without the thread, " << with << " with it");
     CHECK(without > 1.2 * with);  // measured 0.454 against 0.320
 }
+
+TEST_CASE("scenes name a thread's model, lay it alone or across a bridge, push with DAFx-16's force, and refuse "
+          "what has no meaning",
+          "[thread][scene]")
+{
+    const auto c3 = loadSceneFile(test::resource("Scenes/dafx16-c3.json"));
+    REQUIRE(c3.obstacles.size() == 2);
+    CHECK(c3.obstacles[1].type == ObstacleType::band);
+    CHECK(c3.obstacles[1].position == 0.005);
+    CHECK(c3.obstacles[1].law.stiffness * c3.obstacles[1].width == Approx(1.2e5));
+    REQUIRE(c3.excitation.force);
+    CHECK(c3.excitation.force->amplitude == -0.4);
+    CHECK(forcePluckNewtons(*c3.excitation.force, 0.0) == 0.0);
+    CHECK(forcePluckNewtons(*c3.excitation.force, 0.05) == Approx(0.0).margin(1e-12));
+    double strongest = 0.0, when = 0.0;
+    for (int i = 0; i <= 5000; ++i)
+        if (const double f = forcePluckNewtons(*c3.excitation.force, i * 1e-5); f < strongest)
+        {
+            strongest = f;
+            when = i * 1e-5;
+        }
+    CHECK(strongest == Approx(-0.4).epsilon(1e-6));
+    CHECK(when > 0.045);  // strongest just before it lets go (46 ms)
+
+    // Across a bridge, by the rule from its width.
+    const auto laid = parseScene(R"({"format": "jawari-scene/1",
+        "obstacles": [{"type": "parabola", "position": 0.005, "width": 0.01, "curvature": 20},
+                      {"type": "thread", "bridge": 0, "offset": 0.006, "width": 0.002}]})");
+    CHECK(laid.obstacles[1].type == ObstacleType::band);
+    CHECK(laid.obstacles[1].law.stiffness * 0.002 == Approx(2e5));
+    CHECK(laid.obstacles[1].law.damping * 0.002 == Approx(2.0));
+
+    auto refuses = [](const std::string& body, const std::string& expected) {
+        const std::string text = R"({"format": "jawari-scene/1", )" + body + "}";
+        INFO(text);
+        CHECK_THROWS_WITH(parseScene(text), Catch::Contains(expected));
+    };
+    refuses(R"("obstacles": [{"type": "thread", "position": 0.005, "exponent": 1.5}])",
+            "obstacles[0].exponent: has no meaning for a spring_damper thread");
+    refuses(R"("obstacles": [{"type": "thread", "position": 0.005, "damping": -1}])", "obstacles[0].damping");
+    refuses(R"("obstacles": [{"type": "thread", "position": 1.5}])", "obstacles[0].position: must lie on the string");
+    refuses(R"("obstacles": [{"type": "thread", "position": 0.005, "model": "glue"}])", "obstacles[0].model");
+    refuses(R"("excitation": {"type": "force", "position": 0.2, "width": 1.0}, "simulation": {"method": "reference"})",
+            "excitation.width: spreads the force");
+    refuses(R"("excitation": {"type": "force"}, "simulation": {"method": "realtime"})",
+            "excitation.type: \"force\" is rendered by the reference only");
+    refuses(R"("excitation": {"type": "force", "duration": 0})", "excitation.duration: must be > 0");
+}
