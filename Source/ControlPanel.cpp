@@ -90,6 +90,12 @@ const ControlSpec kControls[] = {
      "it there. Sliding it sets the jawari. Parabola shape only."},
     {"Thread", ids::threadPosition, "Position", "Where the thread lies, from the bridge's edge nearer the end."},
     {"Thread", ids::threadDiameter, "Diameter", "How far the thread lifts the string off the bridge."},
+    {"Thread", ids::threadModel, "Model",
+     "Damped: the cotton thread as van Walstijn, Bridges and Mehes model it (DAFx-16), a spring and damper over its "
+     "1.2 mm that the string never leaves; its damping softens the high ringing between the bridge and the end. "
+     "Rigid: a contact as hard as the bridge's."},
+    {"Thread", ids::threadStiffness, "Stiffness", "How hard the damped thread pulls the string back to it."},
+    {"Thread", ids::threadDamping, "Damping", "How much the damped thread takes out of the string's motion there."},
     {"Quality", ids::secondCore, "2nd core",
      "Steps half the sounding strings on a second core, beside the host's audio thread: for high quality or many "
      "strings where one core is not enough. The sound is the same to the last bit; off, everything runs on the "

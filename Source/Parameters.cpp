@@ -22,6 +22,7 @@ constexpr InstrumentControls kControlDefaults{};
 // Parameters shown in other units than the engine's.
 constexpr double kMetresPerMillimetre = 1e-3;  // obstacle height and width: mm
 constexpr double kThermoelasticUnit = 1e-4;    // thermoelastic loss: 1/Q in units of 1e-4
+constexpr double kNewtonsPerKilonewton = 1e3;  // the thread's stiffness: kN/m
 
 Range skewed(float lo, float hi, float centre)
 {
@@ -252,6 +253,13 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
                       float(s.threadOffset / kMetresPerMillimetre), inUnit("mm", 2)));
     layout.add(number(ids::threadDiameter, "Thread diameter", Range(0.05f, 1.0f, 0.01f),
                       float(s.threadDiameter / kMetresPerMillimetre), inUnit("mm", 2)));
+    // DAFx-16's damped thread (a spring-damper the string never leaves), or a rigid contact.
+    layout.add(choice(ids::threadModel, "Thread model", juce::StringArray{"damped", "rigid"},
+                      s.threadModel == ThreadModel::contact ? 1 : 0));
+    layout.add(number(ids::threadStiffness, "Thread stiffness", skewed(1.0f, 10000.0f, 120.0f),
+                      float(s.threadStiffness / kNewtonsPerKilonewton), inUnit("kN/m", 1)));
+    layout.add(number(ids::threadDamping, "Thread damping", skewed(0.0f, 20.0f, 1.2f), float(s.threadDamping),
+                      inUnit("kg/s", 2)));
     return layout;
 }
 
@@ -283,6 +291,9 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
     s.thread = get(ids::thread) > 0.5f;
     s.threadOffset = get(ids::threadPosition) * kMetresPerMillimetre;
     s.threadDiameter = get(ids::threadDiameter) * kMetresPerMillimetre;
+    s.threadModel = rounded(get(ids::threadModel)) == 1 ? ThreadModel::contact : ThreadModel::springDamper;
+    s.threadStiffness = get(ids::threadStiffness) * kNewtonsPerKilonewton;
+    s.threadDamping = get(ids::threadDamping);
     s.hostRateHz = hostRateHz;
     return s;
 }

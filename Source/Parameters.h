@@ -58,6 +58,9 @@ inline constexpr const char* polarisations = "polarisations";
 inline constexpr const char* thread = "thread";
 inline constexpr const char* threadPosition = "threadPosition";
 inline constexpr const char* threadDiameter = "threadDiameter";
+inline constexpr const char* threadModel = "threadModel";
+inline constexpr const char* threadStiffness = "threadStiffness";
+inline constexpr const char* threadDamping = "threadDamping";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -100,7 +103,10 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::polarisations,
                                                 ids::thread,
                                                 ids::threadPosition,
-                                                ids::threadDiameter};
+                                                ids::threadDiameter,
+                                                ids::threadModel,
+                                                ids::threadStiffness,
+                                                ids::threadDamping};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

@@ -29,7 +29,8 @@ namespace jawari::plugin
 class JawariAudioProcessor : public juce::AudioProcessor, private juce::AsyncUpdater
 {
 public:
-    static constexpr int kStateVersion = 2;
+    // 1: 0.1; 2: the damping curve; 3: the thread's model (the states before played it rigid).
+    static constexpr int kStateVersion = 3;
 
     JawariAudioProcessor();
     ~JawariAudioProcessor() override;

@@ -96,16 +96,20 @@ bool hasInnerProcessingInstruction(std::string_view text)
 
 void JawariAudioProcessor::setState(const juce::ValueTree& tree)
 {
-    // Version 1 (0.1) had no damping curve; version 2 adds it. Anything else a state lacks, or
-    // holds out of range or not as a number, takes the parameter's default. A parameter saved under
-    // an id it had before is read too.
+    // Version 1 (0.1) had no damping curve; version 2 adds it; version 3 the thread's model, whose
+    // threads before were rigid, so an older state without it plays its thread rigid still.
+    // Anything else a state lacks, or holds out of range or not as a number, takes the parameter's
+    // default. A parameter saved under an id it had before is read too.
     const auto params = tree.getChildWithName("Parameters");
+    const double version = numberIn(tree.getProperty("version", kStateVersion));
     for (auto* p : getParameters())
     {
         auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p);
         if (ranged == nullptr)
             continue;
         float normalised = ranged->getDefaultValue();
+        if (ranged->getParameterID() == ids::threadModel && version < 3.0)
+            normalised = ranged->convertTo0to1(1.0f);  // rigid
         const auto param = savedParameter(params, ranged->getParameterID());
         if (param.isValid())
         {

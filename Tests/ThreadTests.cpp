@@ -7,6 +7,8 @@
 #include "offline/OfflineRender.h"
 #include "physics/ContactLaw.h"
 #include "physics/ForcePluck.h"
+#include "physics/SpringLoadedModes.h"
+#include "physics/StringDiscretisation.h"
 
 #include <catch2/catch.hpp>
 
@@ -233,4 +235,54 @@ TEST_CASE("scenes name a thread's model, lay it alone or across a bridge, push w
     refuses(R"("excitation": {"type": "force"}, "simulation": {"method": "realtime"})",
             "excitation.type: \"force\" is rendered by the reference only");
     refuses(R"("excitation": {"type": "force", "duration": 0})", "excitation.duration: must be > 0");
+}
+
+TEST_CASE("the pitch a damped thread gives: the spring-loaded mode from Rayleigh quotient iteration is the dense "
+          "eigensolver's",
+          "[thread]")
+{
+    // The paper's string with 150 modes, DAFx-16's thread at 6 mm on a 0.5 mm grid (3 points) and a
+    // bridge point beside it (unilateral: not a spring at rest).
+    const auto s = test::paperString(DampingLaw::none);
+    Thread thread;
+    thread.model = ThreadModel::springDamper;
+    const std::vector<Obstacle> obstacles{threadObstacle(thread, 0.006, 0.0, 0.5e-3), test::pointObstacle(0.004)};
+    auto config = stringSolverConfig(s, obstacles, 150, 96000.0, 0.992, PickupQuantity::displacement);
+    constexpr int B = 3;  // the thread's points, first
+    const int P = static_cast<int>(config.contacts.size());
+    REQUIRE(P == B + 1);
+    const int N = config.modes.size();
+    for (bool compliance : {false, true})
+    {
+        if (compliance)  // a stand-in for the dropped modes: 1e-6 m/N on each point, half that between them
+        {
+            config.contactCompliance.assign(size_t(P * P), 0.0);
+            for (int a = 0; a < P; ++a)
+                for (int b = 0; b < P; ++b)
+                    config.contactCompliance[size_t(a * P + b)] = a == b ? 1e-6 : 0.5e-6;
+        }
+        Eigen::MatrixXd A = Eigen::MatrixXd::Zero(N, N);
+        for (int p = 0; p < N; ++p)
+            A(p, p) = config.modes.omega[size_t(p)] * config.modes.omega[size_t(p)];
+        Eigen::MatrixXd S(B, N);
+        Eigen::MatrixXd C = Eigen::MatrixXd::Zero(B, B);
+        for (int j = 0; j < B; ++j)
+        {
+            REQUIRE(config.contacts[size_t(j)].law.bilateral);
+            for (int p = 0; p < N; ++p)
+                S(j, p) = modeShape(s.lengthMetres, p + 1, config.contacts[size_t(j)].position);
+            C(j, j) = 1.0 / (config.contacts[size_t(j)].weight * config.contacts[size_t(j)].law.stiffness);
+            if (compliance)
+                for (int k = 0; k < B; ++k)
+                    C(j, k) += config.contactCompliance[size_t(j * P + k)];
+        }
+        A += S.transpose() * C.inverse() * S / s.linearDensity;
+        const double dense = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues()(0))
+                             / (2.0 * std::numbers::pi);
+        const double loaded = springLoadedFrequencyHz(config, 0);
+        INFO((compliance ? "with" : "without") << " a compliance: free " << config.modes.frequencyHz[0]
+                                               << " Hz, with the thread " << loaded << " Hz, dense " << dense << " Hz");
+        CHECK(loaded == Approx(dense).epsilon(1e-10));  // the dense solve: 1e-16 of the largest, 3e10
+        CHECK(loaded > config.modes.frequencyHz[0] * 1.001);  // the thread raises the pitch
+    }
 }

@@ -18,8 +18,10 @@ Obstacle layThread(Obstacle& bridge, const Thread& thread)
     const double x = std::min(bridge.supportBegin() + thread.offset, bridge.supportEnd());
     if (!(thread.diameter > 0.0))
         throw std::invalid_argument("the thread's diameter must be > 0");
-    // The highest support to the rest line: every height moved by one amount.
-    const double threadTop = bridge.heightAt(x) + thread.diameter;
+    // The highest support to the rest line: every height moved by one amount. The damped thread
+    // holds the string at the rest line, where the bridge's crown grazes it (DAFx-16's h_b = h_c = 0).
+    const bool damped = thread.model == ThreadModel::springDamper;
+    const double threadTop = damped ? bridge.highestHeight() : bridge.heightAt(x) + thread.diameter;
     const double rest = std::max(threadTop, bridge.highestHeight());
     const double shift = -rest;
     if (bridge.type == ObstacleType::parabola)

@@ -54,8 +54,9 @@ enum class ThreadModel
 
 // DAFx-16's rule for a thread `width` m wide: k = width x 1e8 N/m, and r = k x 1e-5 s, which gives
 // their Table 1's 1.2 kg/s for 1.2 mm (their text prints 1e-6, which gives 0.12).
-inline double threadStiffnessForWidth(double width) { return width * 1e8; }
-inline double threadDampingForStiffness(double stiffness) { return stiffness * 1e-5; }
+constexpr double threadStiffnessForWidth(double width) { return width * 1e8; }
+inline constexpr double kThreadWidthMetres = 1.2e-3;  // their C3 string's thread
+constexpr double threadDampingForStiffness(double stiffness) { return stiffness * 1e-5; }
 
 struct Thread
 {
@@ -63,7 +64,7 @@ struct Thread
     double diameter = 0.2e-3;   // m: how far it lifts the string off the bridge
     ContactLaw law;             // the contact model's
     ThreadModel model = ThreadModel::contact;  // scenes default to the spring-damper (docs/scenes.md)
-    double width = 1.2e-3;      // m: the length of string the spring-damper holds
+    double width = kThreadWidthMetres;  // m: the length of string the spring-damper holds
     double stiffness = 1.2e5;   // N/m, the spring-damper's in all
     double damping = 1.2;       // kg/s, the spring-damper's in all
 };
@@ -73,7 +74,10 @@ struct Thread
 // bridge's surface there plus the diameter) and the bridge's crown lies at the string's rest line
 // (height 0). The contact thread is returned as a point obstacle, its top at that height and its
 // weight the diameter; the spring-damper as a band of the thread's width centred there, its law
-// bilateral (stiffness and damping per metre of that width), on the bridge's contact grid. Where the thread is the higher, as a player sets it, its top is the rest line and the
+// bilateral (stiffness and damping per metre of that width), on the bridge's contact grid. The
+// spring-damper holds the string at the rest line, where the bridge's crown grazes it (DAFx-16's
+// h_b = h_c = 0): its diameter is the contact model's only. Its jawari is the crown beyond it,
+// between the thread and the speaking length. Where the thread is the higher, as a player sets it, its top is the rest line and the
 // bridge lies `diameter` below the string there; where the crown rises above the thread (a steep
 // bridge, a thread far from its apex), the string rests on the crown and the thread lies under it,
 // clear of it at rest. The thread's place is begin + offset, clamped to the bridge's far edge: an

@@ -4,6 +4,7 @@
 // thread every chunk, smoothed (SmoothedControls). Nothing here runs.
 
 #include "physics/ContactMethod.h"
+#include "physics/Obstacle.h"
 #include "physics/StringModel.h"
 #include "realtime/DampingCurve.h"
 #include "realtime/Tuning.h"
@@ -61,6 +62,10 @@ struct InstrumentStructure
     bool thread = false;
     double threadOffset = 0.002;     // m from the bridge's edge nearer the termination
     double threadDiameter = 0.2e-3;  // m
+    // DAFx-16's damped thread, 1.2 mm wide, by default; or a rigid contact with the bridge's law.
+    ThreadModel threadModel = ThreadModel::springDamper;
+    double threadStiffness = threadStiffnessForWidth(kThreadWidthMetres);  // N/m, the damped thread's
+    double threadDamping = threadDampingForStiffness(threadStiffness);       // kg/s, the damped thread's
 
     bool operator==(const InstrumentStructure&) const = default;
 };

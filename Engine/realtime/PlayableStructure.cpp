@@ -68,6 +68,9 @@ InstrumentStructure playableStructure(const InstrumentStructure& s)
     p.inharmonicity = within(s.inharmonicity, 0.0, 1e-2, d.inharmonicity);
     p.releaseSeconds = within(s.releaseSeconds, 0.01, 60.0, d.releaseSeconds);
     p.threadDiameter = within(s.threadDiameter, 1e-6, 5e-3, d.threadDiameter);
+    p.threadModel = s.threadModel == ThreadModel::contact ? ThreadModel::contact : ThreadModel::springDamper;
+    p.threadStiffness = within(s.threadStiffness, 1e2, 1e8, d.threadStiffness);
+    p.threadDamping = within(s.threadDamping, 0.0, 100.0, d.threadDamping);
     const double L = kStringTypes[p.stringType].lengthMetres;
     // At most 5 cm (the plugin's range): a bridge's contact points, one per 0.9 mm, are solved
     // together at every step, and a wider one could not be in real time.

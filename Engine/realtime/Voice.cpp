@@ -314,9 +314,10 @@ void Voice::setContactLaw(const ContactLaw& law, double heightOffset)
 {
     for (int j = 0; j < solver_.contactCount(); ++j)
     {
-        const ContactLaw& own = solver_.contact(j).law;
-        // The damped thread keeps its own law and moves with the bridge.
-        solver_.setContact(j, own.bilateral ? own : law, baseHeights_[size_t(j)] + heightOffset);
+        // The damped thread keeps its own law, and holds the string at its rest line: the
+        // obstacle's height moves the bridge against the string, not the string's support.
+        if (!solver_.contact(j).law.bilateral)
+            solver_.setContact(j, law, baseHeights_[size_t(j)] + heightOffset);
     }
     if (pulseStep_ < 0 && energyCeiling_ > 0.0)
         raiseCeiling();  // what the obstacles now hold, and the forces a stiffer law bears at that energy

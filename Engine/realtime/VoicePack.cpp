@@ -3,6 +3,8 @@
 
 #include "realtime/VoicePack.h"
 
+#include "physics/SpringLoadedModes.h"
+
 #include "realtime/PlayableStructure.h"
 
 #include <algorithm>
@@ -27,16 +29,17 @@ double secondPickupFraction(double pickup)
 }
 
 // The frequency the notes tune: mode 1's, or with two polarisations that of the coupled mode most
-// like the vertical's first (the largest share of it in the vertical pluck's map).
+// like the vertical's first (the largest share of it in the vertical pluck's map); with a damped
+// thread, that mode's with the thread's springs folded in.
 double verticalFundamentalHz(const ModalSolverConfig& c, int M)
 {
-    if (c.shapeToModes.empty())
-        return c.modes.frequencyHz.front();
     int best = 0;
-    for (int k = 1; k < c.modes.size(); ++k)
-        if (std::abs(c.shapeToModes[size_t(k) * M]) > std::abs(c.shapeToModes[size_t(best) * M]))
-            best = k;
-    return c.modes.frequencyHz[size_t(best)];
+    if (!c.shapeToModes.empty())
+        for (int k = 1; k < c.modes.size(); ++k)
+            if (std::abs(c.shapeToModes[size_t(k) * M]) > std::abs(c.shapeToModes[size_t(best) * M]))
+                best = k;
+    // With a damped thread holding the string, the mode it sounds (SpringLoadedModes.h).
+    return springLoadedFrequencyHz(c, best);
 }
 
 // What the editor draws, the vertical displacement at kDrawPoints points, per solver mode: phi_p(x),
@@ -114,10 +117,12 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
                 // NaN-safe: a value that is not a number lays the thread at the edge, 1 um thick.
                 const double offset = s.threadOffset > 0.0 ? std::min(s.threadOffset, o.width) : 0.0;
                 const double diameter = s.threadDiameter > 1e-6 ? s.threadDiameter : 1e-6;
-                Thread thread{offset, diameter, law};
+                Thread thread{offset, diameter, law, s.threadModel, kThreadWidthMetres, s.threadStiffness,
+                              s.threadDamping};
                 Obstacle point = layThread(o, thread);
                 o.height += height;
-                point.height += height;
+                if (!point.law.bilateral)  // the damped thread holds the string at its rest line
+                    point.height += height;
                 obstacles.push_back(o);
                 obstacles.push_back(point);
             }
