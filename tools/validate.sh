@@ -192,10 +192,12 @@ check_lv2info() {
     parameters=$(grep -c "a lv2:Parameter" "$release/LV2/Jawari.lv2/dsp.ttl")
     # Every parameter of the source's list (kParameterIds) is in the bundle.
     expected=$(sed -n '/kParameterIds\[\] = {/,/};/p' Source/Parameters.h | grep -o "ids::[A-Za-z0-9_]*" | wc -l)
+    # Every factory preset of the source's table (Source/Presets.cpp, one entry a line).
+    expectedPresets=$(grep -c '^        {"' Source/Presets.cpp)
     email=$(sed -n 's/^\s*Author Email:\s*//p' <<< "$info")
     homepage=$(sed -n 's/^\s*Author Homepage:\s*//p' <<< "$info")
-    local detail="$class, $ports ports, $parameters of $expected parameters, $presets presets, $email, $homepage"
-    if [ "$class" = "Instrument Plugin" ] && [ "$ports" -ge 4 ] && [ "$parameters" -eq "$expected" ] && [ "$presets" -eq 5 ] \
+    local detail="$class, $ports ports, $parameters of $expected parameters, $presets of $expectedPresets presets, $email, $homepage"
+    if [ "$class" = "Instrument Plugin" ] && [ "$ports" -ge 4 ] && [ "$parameters" -eq "$expected" ] && [ "$presets" -eq "$expectedPresets" ] \
         && [ "$email" = "mailto:dev@jawari.org" ] && [ "$homepage" = "https://jawari.org" ]; then
         report lv2info PASS "$detail"
     else

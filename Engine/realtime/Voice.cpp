@@ -32,9 +32,9 @@ std::vector<double> shapeInModes(const ModalSolverConfig& c, const std::vector<d
 }
 }  // namespace
 
-double residualComplianceLoss(double droppedSigma)
+double residualComplianceLoss(double droppedSigma, double fundamentalHz)
 {
-    return droppedSigma > 0.0 ? 1.0 : 0.0;
+    return std::clamp(2.0 * droppedSigma / fundamentalHz, 0.0, 1.0);
 }
 
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
@@ -64,7 +64,8 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
                 for (int j = 0; j < P; ++j)
                     c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
         }
-        c.complianceLoss = config.residualComplianceLoss.value_or(residualComplianceLoss(dropped.sigma[size_t(M)]));
+        c.complianceLoss = config.residualComplianceLoss.value_or(
+            residualComplianceLoss(dropped.sigma[size_t(M)], dropped.frequencyHz.front()));
     }
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
         c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);

@@ -209,10 +209,16 @@ private:
 ModalSolverConfig voiceSolverConfig(const VoiceConfig& config);
 
 // The residual compliance's loss share theta for a string whose first dropped mode decays at
-// `droppedSigma` (1/s): 0 for a lossless string, whose voice then conserves its energy exactly; 1
-// (backward Euler) for any other. Measured against the reference on every preset scene, theta = 1
-// is the closer: the trapezoid (theta near 0) keeps a spurious ringing of the spring at a quarter of
-// the internal rate, which the contact feels (docs/design.md section 5).
-double residualComplianceLoss(double droppedSigma);
+// `droppedSigma` (1/s) and whose first mode sounds at fundamentalHz: the share of its energy that
+// mode loses in one period of the fundamental, 2 sigma / f1, at most 1. The energy the contact puts
+// into the dropped modes comes back at the next contact if they keep it, and is gone if they lose
+// it first: 0 for a lossless string, whose voice then conserves its energy exactly; 1 (backward
+// Euler) for the strings of every preset (Valette's law, and DAFx-16's by wavenumber, lose far
+// more); 0.009 for DAFx-16's C3 string at a constant 0.6 /s, whose buzz band theta = 1 made fall
+// (to 0.56 of its early centroid by 1 s) where the reference's holds (1.00; now 0.91, and 1.67 at
+// theta = 0). Measured against the reference on every preset scene, theta = 1 is
+// the closer there: the trapezoid (theta near 0) keeps a spurious ringing of the spring at a
+// quarter of the internal rate, which the contact feels (docs/design.md section 5).
+double residualComplianceLoss(double droppedSigma, double fundamentalHz);
 
 }  // namespace jawari
