@@ -1,180 +1,17 @@
 #include "offline/Scene.h"
 
+#include "offline/SceneReader.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
-#include <initializer_list>
-#include <set>
-#include <sstream>
 
 namespace jawari
 {
+using namespace scene_reading;
 namespace
 {
-using json = nlohmann::json;
-
-std::string show(double v)
-{
-    std::ostringstream s;
-    s.precision(12);
-    s << v;
-    return s.str();
-}
-
-std::string typeName(const json& j)
-{
-    return j.type_name();
-}
-
-// A JSON object being read at a path: takes the fields it knows, then rejects the rest.
-class ObjectReader
-{
-public:
-    ObjectReader(const json& object, std::string path)
-        : object_(object)
-        , path_(std::move(path))
-    {
-        if (!object_.is_object())
-            throw SceneError(path_.empty() ? "(top level)" : path_, "must be an object, got " + typeName(object_));
-    }
-
-    std::string at(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-    bool has(const std::string& key) const { return object_.contains(key); }
-    const json& raw(const std::string& key)
-    {
-        seen_.insert(key);
-        return object_.at(key);
-    }
-
-    // Optional number: stays `fallback` when absent. Must be finite.
-    double number(const std::string& key, double fallback)
-    {
-        if (!has(key))
-            return fallback;
-        const json& v = raw(key);
-        if (!v.is_number())
-            throw SceneError(at(key), "must be a number, got " + typeName(v));
-        const double d = v.get<double>();
-        if (!std::isfinite(d))
-            throw SceneError(at(key), "must be finite");
-        return d;
-    }
-    double positive(const std::string& key, double fallback)
-    {
-        const double d = number(key, fallback);
-        if (!(d > 0.0))
-            throw SceneError(at(key), "must be > 0 (got " + show(d) + ")");
-        return d;
-    }
-    bool boolean(const std::string& key, bool fallback)
-    {
-        if (!has(key))
-            return fallback;
-        const auto& v = raw(key);
-        if (!v.is_boolean())
-            throw SceneError(at(key), "must be true or false, got " + typeName(v));
-        return v.get<bool>();
-    }
-    double nonNegative(const std::string& key, double fallback)
-    {
-        const double d = number(key, fallback);
-        if (!(d >= 0.0))
-            throw SceneError(at(key), "must be >= 0 (got " + show(d) + ")");
-        return d;
-    }
-    std::optional<long long> integer(const std::string& key)
-    {
-        if (!has(key))
-            return std::nullopt;
-        const json& v = raw(key);
-        if (v.is_number_integer())
-            return v.get<long long>();
-        if (v.is_number_float())
-        {
-            const double d = v.get<double>();
-            if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
-                return static_cast<long long>(d);
-        }
-        throw SceneError(at(key),
-                         "must be a whole number, got " + (v.is_number() ? show(v.get<double>()) : typeName(v)));
-    }
-    std::string string(const std::string& key, const std::string& fallback, std::initializer_list<const char*> allowed)
-    {
-        return string(key, fallback, std::vector<const char*>(allowed));
-    }
-    std::string string(const std::string& key, const std::string& fallback, const std::vector<const char*>& allowed)
-    {
-        if (!has(key))
-            return fallback;
-        const json& v = raw(key);
-        if (!v.is_string())
-            throw SceneError(at(key), "must be a string, got " + typeName(v));
-        const auto s = v.get<std::string>();
-        std::string list;
-        for (const char* a : allowed)
-        {
-            if (s == a)
-                return s;
-            list += list.empty() ? std::string("'") + a + "'" : std::string(", '") + a + "'";
-        }
-        throw SceneError(at(key), "unknown value '" + s + "' (expected one of " + list + ")");
-    }
-    std::vector<double> numbers(const std::string& key)
-    {
-        const json& v = raw(key);
-        if (!v.is_array())
-            throw SceneError(at(key), "must be an array of numbers, got " + typeName(v));
-        std::vector<double> out;
-        for (size_t i = 0; i < v.size(); ++i)
-        {
-            const std::string here = at(key) + "[" + std::to_string(i) + "]";
-            if (!v[i].is_number())
-                throw SceneError(here, "must be a number, got " + typeName(v[i]));
-            const double d = v[i].get<double>();
-            if (!std::isfinite(d))
-                throw SceneError(here, "must be finite");
-            out.push_back(d);
-        }
-        return out;
-    }
-
-    void rejectUnknown() const
-    {
-        for (auto it = object_.begin(); it != object_.end(); ++it)
-            if (!seen_.count(it.key()) && !known_.count(it.key()))
-                throw SceneError(at(it.key()), "unknown field");
-    }
-    void allow(std::initializer_list<const char*> keys)
-    {
-        for (const char* k : keys)
-            known_.insert(k);
-    }
-
-private:
-    const json& object_;
-    std::string path_;
-    std::set<std::string> seen_;
-    std::set<std::string> known_;
-};
-
-ContactLaw readContactLaw(ObjectReader& r)
-{
-    ContactLaw law;
-    law.stiffness = r.positive("stiffness", law.stiffness);
-    law.exponent = r.number("exponent", law.exponent);
-    if (!(law.exponent >= 1.0 && law.exponent <= 10.0))
-        throw SceneError(r.at("exponent"), "must be between 1 and 10 (got " + show(law.exponent) + ")");
-    return law;
-}
-
-void requireOnString(const std::string& path, double x, double L)
-{
-    if (!(x > 0.0 && x < L))
-        throw SceneError(path, "must lie on the string, strictly between 0 and length " + show(L) + " m (got " + show(x)
-                                   + ")");
-}
-
 // string.damping: the law and its constants; a constant given for a law that does not use it is an error.
 void readDamping(const json& j, DampingParameters& dp)
 {
@@ -266,139 +103,6 @@ SecondPolarisation readSecondPolarisation(const json& j)
     return second;
 }
 
-// The thread's model and its law: "spring_damper" (the default: width, and stiffness N/m and
-// damping kg/s in all, by DAFx-16's rule from the width unless given) or "contact" (a contact law).
-Thread readThreadModel(ObjectReader& r)
-{
-    Thread thread;
-    const auto model = r.string("model", "spring_damper", {"spring_damper", "contact"});
-    if (model == "contact")
-    {
-        thread.model = ThreadModel::contact;
-        thread.law = readContactLaw(r);
-        return thread;
-    }
-    thread.model = ThreadModel::springDamper;
-    if (r.has("exponent"))
-        throw SceneError(r.at("exponent"), "has no meaning for a spring_damper thread (it is linear); "
-                                           "\"model\": \"contact\" takes a contact law");
-    thread.width = r.positive("width", thread.width);
-    thread.stiffness = r.positive("stiffness", threadStiffnessForWidth(thread.width));
-    thread.damping = r.nonNegative("damping", threadDampingForStiffness(thread.stiffness));
-    return thread;
-}
-
-// A distributed obstacle's contact spacing (m), 0 (the default grid) when not given.
-double readSpacing(ObjectReader& r, double L)
-{
-    if (!r.has("spacing"))
-        return 0.0;
-    const double spacing = r.positive("spacing", 0.0);
-    if (!(spacing <= 0.5 * L && spacing >= L * 1e-6))
-        throw SceneError(r.at("spacing"), "must be between L/1e6 and L/2 (" + show(L * 1e-6) + " to " + show(0.5 * L)
-                                              + " m), got " + show(spacing));
-    return spacing;
-}
-
-// A thread standing alone at `position`, its top at `height` (DAFx-16's, between the string's end
-// and its bridge).
-Obstacle readFreeThread(ObjectReader& r, double L)
-{
-    Thread thread = readThreadModel(r);
-    const double position = r.number("position", 0.0);
-    requireOnString(r.at("position"), position, L);
-    const double height = r.number("height", 0.0);
-    if (thread.model == ThreadModel::contact)
-        thread.diameter = r.positive("diameter", thread.diameter);
-    const double spacing = readSpacing(r, L);
-    r.rejectUnknown();
-    return threadObstacle(thread, position, height, spacing);
-}
-
-// A thread across an earlier bridge (obstacles[bridge]), which it moves so that the string rests
-// on the thread (layThread). One thread per bridge.
-Obstacle readThread(const json& j, const std::string& path, std::vector<Obstacle>& before,
-                    std::vector<bool>& threaded, double L)
-{
-    ObjectReader r(j, path);
-    r.string("type", "thread", {"thread"});
-    if (r.has("position") && !r.has("bridge"))
-        return readFreeThread(r, L);
-    const auto index = r.integer("bridge");
-    if (!index || *index < 0 || *index >= static_cast<long long>(before.size())
-        || !before[size_t(*index)].isDistributed() || before[size_t(*index)].type == ObstacleType::band)
-        throw SceneError(r.at("bridge"), "must be the index of a bridge (a parabola or a profile) earlier in obstacles");
-    if (threaded[size_t(*index)])
-        throw SceneError(r.at("bridge"), "already has a thread");
-    Obstacle& bridge = before[size_t(*index)];
-    Thread thread = readThreadModel(r);
-    thread.offset = r.nonNegative("offset", thread.offset);
-    thread.diameter = r.positive("diameter", thread.diameter);
-    if (!threadFitsBridge(bridge, thread.offset))
-        throw SceneError(r.at("offset"), "puts the thread off its bridge, which is "
-                                             + show(bridge.supportEnd() - bridge.supportBegin()) + " m long (got "
-                                             + show(thread.offset) + " m)");
-    r.rejectUnknown();
-    threaded[size_t(*index)] = true;
-    return layThread(bridge, thread);
-}
-
-Obstacle readObstacle(const json& j, const std::string& path, double L)
-{
-    ObjectReader r(j, path);
-    Obstacle ob;
-    const auto type = r.string("type", "point", {"point", "profile", "parabola", "thread"});
-    ob.law = readContactLaw(r);
-    if (type == "point")
-    {
-        ob.type = ObstacleType::point;
-        ob.position = r.number("position", ob.position);
-        requireOnString(r.at("position"), ob.position, L);
-        ob.height = r.number("height", ob.height);
-        ob.width = r.positive("width", ob.width);
-    }
-    else if (type == "parabola")
-    {
-        ob.type = ObstacleType::parabola;
-        ob.position = r.number("position", 0.003);
-        ob.height = r.number("height", 0.0);
-        ob.width = r.positive("width", 0.006);
-        ob.curvature = r.nonNegative("curvature", 1.0);
-        if (!(ob.supportBegin() >= 0.0 && ob.supportEnd() <= L))
-            throw SceneError(r.at("width"), "the parabola [position - width/2, position + width/2] = ["
-                                                + show(ob.supportBegin()) + ", " + show(ob.supportEnd())
-                                                + "] m must lie on the string [0, " + show(L) + "]");
-    }
-    else
-    {
-        ob.type = ObstacleType::profile;
-        if (!r.has("x"))
-            throw SceneError(r.at("x"), "is required for a profile");
-        if (!r.has("height"))
-            throw SceneError(r.at("height"), "is required for a profile (an array of heights)");
-        ob.profileX = r.numbers("x");
-        ob.profileHeight = r.numbers("height");
-        if (ob.profileX.size() < 2)
-            throw SceneError(r.at("x"), "needs at least 2 points");
-        if (ob.profileX.size() != ob.profileHeight.size())
-            throw SceneError(r.at("height"), "must have as many entries as x (" + std::to_string(ob.profileX.size())
-                                                 + "), got " + std::to_string(ob.profileHeight.size()));
-        for (size_t i = 0; i < ob.profileX.size(); ++i)
-        {
-            const std::string here = r.at("x") + "[" + std::to_string(i) + "]";
-            if (!(ob.profileX[i] >= 0.0 && ob.profileX[i] <= L))
-                throw SceneError(here,
-                                 "must lie on the string [0, " + show(L) + "] m (got " + show(ob.profileX[i]) + ")");
-            if (i > 0 && !(ob.profileX[i] > ob.profileX[i - 1]))
-                throw SceneError(here, "must be greater than the previous x (x must increase strictly)");
-        }
-    }
-    if (ob.isDistributed())
-        ob.spacing = readSpacing(r, L);
-    r.rejectUnknown();
-    return ob;
-}
-
 }  // namespace
 
 const char* methodName(const Simulation& simulation)
@@ -444,6 +148,30 @@ const char* quantityUnit(PickupQuantity q)
     return "m";
 }
 
+namespace
+{
+// The pluck or the force: on the string, and a force only where it is rendered.
+void validateExcitation(const Scene& scene)
+{
+    const double L = scene.string.lengthMetres;
+    requireOnString("excitation.position", scene.excitation.position, L);
+    if (const auto& force = scene.excitation.force)
+    {
+        if (force->position - 0.5 * force->width < 0.0 || force->position + 0.5 * force->width > L)
+            throw SceneError("excitation.width", "spreads the force [position - width/2, position + width/2] = ["
+                                                     + show(force->position - 0.5 * force->width) + ", "
+                                                     + show(force->position + 0.5 * force->width)
+                                                     + "] m off the string [0, " + show(L) + "]");
+        if (!scene.simulation.reference)
+            throw SceneError("excitation.type", "\"force\" is rendered by the reference only (\"method\": \"reference\")");
+        if (scene.secondPolarisation)
+            throw SceneError("excitation.type", "\"force\" pushes one polarisation: the scene has a second_polarisation");
+    }
+    if (scene.excitation.angle != 0.0 && !scene.secondPolarisation)
+        throw SceneError("excitation.angle", "turns the pluck out of the vertical: it needs a second_polarisation");
+}
+}  // namespace
+
 void validateScene(const Scene& scene)
 {
     const auto& sim = scene.simulation;
@@ -480,21 +208,7 @@ void validateScene(const Scene& scene)
             throw SceneError("string.modes[" + std::to_string(i) + "].n",
                              "mode " + std::to_string(scene.string.modeOverrides[i].number)
                                  + " is above the simulated modes (" + std::to_string(modes) + ")");
-    requireOnString("excitation.position", scene.excitation.position, L);
-    if (const auto& force = scene.excitation.force)
-    {
-        if (force->position - 0.5 * force->width < 0.0 || force->position + 0.5 * force->width > L)
-            throw SceneError("excitation.width", "spreads the force [position - width/2, position + width/2] = ["
-                                                     + show(force->position - 0.5 * force->width) + ", "
-                                                     + show(force->position + 0.5 * force->width)
-                                                     + "] m off the string [0, " + show(L) + "]");
-        if (!scene.simulation.reference)
-            throw SceneError("excitation.type", "\"force\" is rendered by the reference only (\"method\": \"reference\")");
-        if (scene.secondPolarisation)
-            throw SceneError("excitation.type", "\"force\" pushes one polarisation: the scene has a second_polarisation");
-    }
-    if (scene.excitation.angle != 0.0 && !scene.secondPolarisation)
-        throw SceneError("excitation.angle", "turns the pluck out of the vertical: it needs a second_polarisation");
+    validateExcitation(scene);
     if (const auto& second = scene.secondPolarisation)
     {
         if (second->coupling.stiffness > 0.0)
@@ -514,21 +228,6 @@ void validateScene(const Scene& scene)
 
 namespace
 {
-void readObstacles(const json& obs, Scene& scene)
-{
-    if (!obs.is_array())
-        throw SceneError("obstacles", "must be an array, got " + typeName(obs));
-    std::vector<bool> threaded;
-    for (size_t i = 0; i < obs.size(); ++i)
-    {
-        const std::string path = "obstacles[" + std::to_string(i) + "]";
-        const bool thread = obs[i].is_object() && obs[i].contains("type") && obs[i]["type"] == "thread";
-        scene.obstacles.push_back(thread ? readThread(obs[i], path, scene.obstacles, threaded, scene.string.lengthMetres)
-                                         : readObstacle(obs[i], path, scene.string.lengthMetres));
-        threaded.push_back(false);
-    }
-}
-
 void readExcitation(const json& value, Excitation& excitation)
 {
     ObjectReader r(value, "excitation");
