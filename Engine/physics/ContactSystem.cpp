@@ -189,19 +189,70 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
 // there is exactly one, or the one the prediction pushes deepest (largest s - b) if there is none.
 bool ContactSystem::solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations)
 {
-    int deepest = active_.front(), inContact = -1;
+    int deepest = -1, inContact = -1, bilateral = -1;
     for (int a : active_)
     {
-        if (s[a] - b[a] > s[deepest] - b[deepest])
+        if (points_[size_t(a)].law.bilateral)
+        {
+            if (bilateral >= 0)
+                return false;  // two bilateral points: the Newton
+            bilateral = a;
+            continue;
+        }
+        if (deepest < 0 || s[a] - b[a] > s[deepest] - b[deepest])
             deepest = a;
-        if (s[a] > 0.0 || points_[size_t(a)].law.bilateral)
+        if (s[a] > 0.0)
         {
             if (inContact >= 0)
                 return false;  // two in contact at n-1: the Newton
             inContact = a;
         }
     }
-    return solveOneTouching(inContact >= 0 ? inContact : deepest, s, b, r, slope, iterations);
+    const int presser = inContact >= 0 ? inContact : deepest;
+    if (bilateral >= 0)
+        return solveWithBilateral(bilateral, presser, s, b, r, slope, iterations);
+    return solveOneTouching(presser, s, b, r, slope, iterations);
+}
+
+// One bilateral point t (the damped thread) and at most one point a that can touch (-1: none).
+// t's chord slope is affine, G_t = g0 + c r_t, so its equation gives G_t = G0 + gamma G_a, and a's
+// becomes a scalar contact equation r_a + (A_aa + A_at gamma) G_a = b_a - A_at G0 (the Schur
+// complement: k' > 0). Exact, as solveOneTouching, if every other point stays off its obstacle at
+// both ends; false (nothing written) when one would touch: the coupled Newton decides.
+bool ContactSystem::solveWithBilateral(int t, int a, const double* s, const double* b, double* r, double* slope,
+                                       int& iterations)
+{
+    const ChordSlope thread = chordSlope(points_[size_t(t)].law, s[t], 0.0);
+    const double g0 = thread.value, c = thread.derivative;
+    const double stiffen = 1.0 + A_(t, t) * c;
+    const double G0 = (g0 + c * b[t]) / stiffen;
+    ScalarContactSolution sol;
+    if (a >= 0)
+    {
+        const double gamma = -c * A_(t, a) / stiffen;
+        sol = solveScalarContact(points_[size_t(a)].law, s[a], b[a] - A_(a, t) * G0, A_(a, a) + A_(a, t) * gamma,
+                                 &series_[size_t(a)], &known_[size_t(a)][1]);
+    }
+    const double Ga = a >= 0 ? sol.slope : 0.0;
+    const double Gt = G0 - c * (a >= 0 ? A_(t, a) : 0.0) / stiffen * Ga;
+    const double rt = (b[t] - A_(t, t) * g0 - (a >= 0 ? A_(t, a) * Ga : 0.0)) / stiffen;
+    for (int k = 0; k < listedCount_; ++k)
+    {
+        const int i = listed_[k];
+        if (i != a && i != t && !(s[i] - (b[i] - (a >= 0 ? A_(i, a) * Ga : 0.0) - A_(i, t) * Gt) <= 0.0))
+            return false;
+    }
+    for (int k = 0; k < listedCount_; ++k)
+    {
+        const int i = listed_[k];
+        if (i != a && i != t)
+            record(i, b[i] - (a >= 0 ? A_(i, a) * Ga : 0.0) - A_(i, t) * Gt, 0.0, KnownPower{}, r, slope);
+    }
+    if (a >= 0)
+        record(a, sol.r, sol.slope, sol.penetration, r, slope);
+    record(t, rt, Gt, KnownPower{}, r, slope);
+    iterations = sol.iterations;
+    return true;
 }
 
 // No point can touch: every r is the contact-free b, every force 0.

@@ -53,6 +53,7 @@ private:
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
     bool solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations);
     bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
+    bool solveWithBilateral(int t, int a, const double* s, const double* b, double* r, double* slope, int& iterations);
     void releaseAll(const double* b, double* r, double* slope);
     int solveCoupled(const double* s, const double* b, double* r, double* slope);
     void admit(int j, const double* s, double start);
