@@ -676,6 +676,48 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
     }
 }
 
+TEST_CASE("processBlock never allocates with DAFx-16's damped thread across a grazing bridge", "[plugin]")
+{
+    // The thread's point never leaves the contact solve, which then takes the bilateral path or the
+    // coupled Newton at every step: notes, a bend and the thread's stiffness moved (a new pack).
+    JawariAudioProcessor p;
+    setParameter(p, ids::quality, 0.0f);
+    setParameter(p, ids::obstacleShape, 1.0f);  // the parabolic bridge
+    setParameter(p, ids::obstacleWidth, 10.0f);
+    setParameter(p, ids::bridgeCurvature, 0.2f);
+    setParameter(p, ids::thread, 1.0f);
+    REQUIRE(parameterValue(p, ids::threadModel) == 0.0f);  // damped
+    prepare(p, 48000.0, 512);
+    setParameter(p, ids::threadStiffness, 300.0f);
+    REQUIRE(p.waitForBuilds());
+    juce::AudioBuffer<float> buffer(2, 512);
+    juce::MidiBuffer none;
+    p.processBlock(buffer, none);  // takes the built pack
+    const auto& built = p.instrument().pack()->structure;
+    REQUIRE(built.thread);
+    REQUIRE(built.threadModel == ThreadModel::springDamper);
+    REQUIRE(built.threadStiffness == Approx(3e5));
+    juce::MidiBuffer midi;
+    midi.ensureSize(4096);
+    long counted = 0;
+    {
+        test::CountAllocations guard;
+        for (int b = 0; b < 100; ++b)
+        {
+            midi.clear();
+            if (b < 6)
+                midi.addEvent(juce::MidiMessage::noteOn(1, 50 + b, juce::uint8(100)), b * 17);
+            if (b == 40)
+                midi.addEvent(juce::MidiMessage::pitchWheel(1, 12000), 5);
+            p.processBlock(buffer, midi);
+        }
+        counted = test::allocations;
+    }
+    CHECK(counted == 0);
+    CHECK(p.instrument().blowUps() == 0);
+    CHECK(p.instrument().limitedSamples() == 0);
+}
+
 TEST_CASE("setStateInformation survives empty, truncated, random and older-version data", "[plugin]")
 {
     JawariAudioProcessor p;
