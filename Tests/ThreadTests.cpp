@@ -107,22 +107,10 @@ Precursor precursor(const std::vector<double>& y, double rateHz)
     leads.erase(leads.begin());  // the frame centred 0.05 s holds the pluck itself
     Precursor p;
     p.largest = *std::max_element(leads.begin(), leads.end());
-    p.leading = double(std::count_if(leads.begin(), leads.end(), [](double l) { return l > 0.0; })) / leads.size();
+    p.leading = double(std::count_if(leads.begin(), leads.end(), [](double l) { return l > 0.0; })) / double(leads.size());
     std::nth_element(leads.begin(), leads.begin() + leads.size() / 2, leads.end());
     p.median = leads[leads.size() / 2];
     return p;
-}
-
-// The precursor's centroid late (frames centred 0.90 .. 1.10 s) over early (0.10 .. 0.30 s): the
-// power-weighted mean frequency from the 10th partial to 16 kHz, 100 ms Hann frames.
-double centroidFall(const std::vector<double>& y, double rateHz)
-{
-    const double f1 = peakFrequency(y, rateHz, 100.0, 170.0);
-    const auto track = centroidTrack(y, rateHz, 10.0 * f1, 16000.0, 1.2, 0.1);
-    REQUIRE(track.size() >= 22);
-    auto mean = [&](size_t first) { return (track[first] + track[first + 1] + track[first + 2] + track[first + 3]
-                                            + track[first + 4]) / 5.0; };
-    return mean(17) / mean(1);
 }
 
 // The share of the first second's energy (Hann) above the 10th partial.
@@ -175,9 +163,9 @@ TEST_CASE("DAFx-16's C3 string: the precursor's centroid falls, faster with the 
                     o.position = x;
         };
     };
-    const double atFive = centroidFall(renderC3([](Scene&) {}), rate);
-    const double atFour = centroidFall(renderC3(threadAt(0.004)), rate);
-    const double atEight = centroidFall(renderC3(threadAt(0.008)), rate);
+    const double atFive = test::centroidFall(renderC3([](Scene&) {}), rate);
+    const double atFour = test::centroidFall(renderC3(threadAt(0.004)), rate);
+    const double atEight = test::centroidFall(renderC3(threadAt(0.008)), rate);
     INFO("centroid late / early: thread at 4 mm " << atFour << ", 5 mm " << atFive << ", 8 mm " << atEight);
     CHECK(atFive < 0.93);                              // measured 0.859
     CHECK(1.0 - atFour > 1.5 * (1.0 - atEight));       // measured 0.245 against 0.124

@@ -168,7 +168,6 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double r)
     return chordSlope(law, dividedSeries(law.exponent), s, s > 0.0 ? std::pow(s, law.exponent) : 0.0, r);
 }
 
-
 ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
                       KnownPower* anchor)
 {

@@ -226,27 +226,30 @@ bool ContactSystem::solveWithBilateral(int t, int a, const double* s, const doub
     const double g0 = thread.value, c = thread.derivative;
     const double stiffen = 1.0 + A_(t, t) * c;
     const double G0 = (g0 + c * b[t]) / stiffen;
-    ScalarContactSolution sol;
+    const double Ata = a >= 0 ? A_(t, a) : 0.0;
+    ScalarContactSolution sol;  // a's, its slope 0 without a
     if (a >= 0)
     {
-        const double gamma = -c * A_(t, a) / stiffen;
+        const double gamma = -c * Ata / stiffen;
         sol = solveScalarContact(points_[size_t(a)].law, s[a], b[a] - A_(a, t) * G0, A_(a, a) + A_(a, t) * gamma,
                                  &series_[size_t(a)], &known_[size_t(a)][1]);
     }
-    const double Ga = a >= 0 ? sol.slope : 0.0;
-    const double Gt = G0 - c * (a >= 0 ? A_(t, a) : 0.0) / stiffen * Ga;
-    const double rt = (b[t] - A_(t, t) * g0 - (a >= 0 ? A_(t, a) * Ga : 0.0)) / stiffen;
+    // What a's force does at point i (nothing without a).
+    auto fromA = [&](int i) { return a >= 0 ? A_(i, a) * sol.slope : 0.0; };
+    const double Gt = G0 - c * Ata / stiffen * sol.slope;
+    const double rt = (b[t] - A_(t, t) * g0 - fromA(t)) / stiffen;
+    auto moved = [&](int i) { return b[i] - fromA(i) - A_(i, t) * Gt; };
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];
-        if (i != a && i != t && !(s[i] - (b[i] - (a >= 0 ? A_(i, a) * Ga : 0.0) - A_(i, t) * Gt) <= 0.0))
+        if (i != a && i != t && !(s[i] - moved(i) <= 0.0))
             return false;
     }
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];
         if (i != a && i != t)
-            record(i, b[i] - (a >= 0 ? A_(i, a) * Ga : 0.0) - A_(i, t) * Gt, 0.0, KnownPower{}, r, slope);
+            record(i, moved(i), 0.0, KnownPower{}, r, slope);
     }
     if (a >= 0)
         record(a, sol.r, sol.slope, sol.penetration, r, slope);

@@ -4,7 +4,6 @@
 #include "realtime/VoicePack.h"
 
 #include "physics/SpringLoadedModes.h"
-
 #include "realtime/PlayableStructure.h"
 
 #include <algorithm>
