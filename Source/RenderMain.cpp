@@ -239,6 +239,7 @@ void applyMethod(jawari::Scene& scene, const Request& q)
     {
         scene.simulation.modes.reset();
         scene.simulation.rateHz.reset();
+        scene.simulation.contactSpacingMetres.reset();
     }
     scene.simulation.reference = chosen.reference;
     scene.simulation.contact = chosen.contact;

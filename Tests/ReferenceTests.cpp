@@ -93,3 +93,32 @@ TEST_CASE("the render pipeline gives the same output through either path")
     INFO("max |difference| / peak = " << worst / peak);
     CHECK(worst / peak < 1e-10);
 }
+
+TEST_CASE("a scene's contact spacing places the reference's points on a bridge, as the bridge's own spacing "
+          "would, and leaves an obstacle's own spacing and the voice's points alone")
+{
+    auto scene = test::atPaperConfiguration(loadSceneFile(test::resource("Scenes/sitar-bridge.json")));
+    scene.simulation.durationSeconds = 0.03;
+    const double L = scene.string.lengthMetres;
+    auto render = [](Scene s) { return renderScene(s).output; };
+    auto bySimulation = scene;
+    bySimulation.simulation.contactSpacingMetres = L / 2004;
+    auto byObstacle = scene;
+    byObstacle.obstacles.front().spacing = L / 2004;
+    const auto grid = render(scene);
+    const auto fine = render(bySimulation);
+    CHECK(fine == render(byObstacle));
+    CHECK(relativeL2(fine, grid, grid.size()) > 1e-4);  // the points moved: another answer
+    // An obstacle's own spacing wins over the scene's.
+    auto both = byObstacle;
+    both.simulation.contactSpacingMetres = L / 4008;
+    CHECK(render(both) == fine);
+    // The voice keeps its points.
+    auto voice = scene;
+    voice.simulation.reference = false;
+    voice.simulation.modes = 142;
+    voice.simulation.rateHz = 3 * 48000.0;
+    auto voiceSpaced = voice;
+    voiceSpaced.simulation.contactSpacingMetres = L / 2004;
+    CHECK(render(voice) == render(voiceSpaced));
+}

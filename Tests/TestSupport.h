@@ -23,6 +23,16 @@ inline std::string resource(const std::string& name)
     return std::string(JAWARI_RESOURCES_DIR) + "/" + name;
 }
 
+// The scene's reference at the paper's configuration (1001 modes at 2 MHz, a distributed obstacle's
+// points on that grid unless it gives its own), whatever converged configuration the scene names.
+inline Scene atPaperConfiguration(Scene scene)
+{
+    scene.simulation.modes.reset();
+    scene.simulation.rateHz.reset();
+    scene.simulation.contactSpacingMetres.reset();
+    return scene;
+}
+
 // The instrument strung for the scripted tests (checksums, the string bank): draft quality and the
 // energy-conserving Newton on a point bridge at 6 mm, a 2 cm parabolic bridge at 3 cm, or the frets.
 inline InstrumentStructure scriptStructure(ObstacleShape shape)

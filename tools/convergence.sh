@@ -2,8 +2,9 @@
 # The reference's refinement study on bridges (docs/measurements.md, "The reference's convergence on
 # bridges"): jawari-convergence on sitar-bridge, tanpura-thread and parabola-bridge, every ladder,
 # into Resources/Charts/convergence.csv (the successive pairs and the floors), and its chart
-# convergence.png. About 40 CPU minutes on one core; renders are cached in build/convergence-cache,
-# so a second run (or one stopped halfway) only renders what is missing.
+# convergence.png. About two CPU hours, each study's renders side by side on every core; renders
+# are cached in build/convergence-cache (by scene file and its text), so a second run (or one
+# stopped halfway) only renders what is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/deps.sh
@@ -22,6 +23,13 @@ run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 40
 sed -i '$ s/^pair,sitar-bridge,custom,/pair,sitar-bridge,modes-fine,/' "$out"
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:2e6:16032,4001:4e6:16032,4001:8e6:16032
 run --scene Resources/Scenes/tanpura-thread.json --knobs '' --no-floor --ladder 4001:2e6:1002,4001:4e6:1002,4001:8e6:1002,4001:16e6:1002
+# The modes and the rate together (the rate as M^2) on the point contacts, and sitar-bridge's
+# converged configuration refined once in each knob.
+run --scene Resources/Scenes/paper-tanpura.json --knobs joint --no-floor
+run --scene Resources/Scenes/tanpura-thread.json --knobs '' --no-floor --ladder 4001:32e6:1002,4001:64e6:1002,8003:128e6:1002
+run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,8003:4e6:16032
+run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,4001:8e6:16032
+run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,4001:4e6:32064
 # One header, then the pairs and floors by scene, ladder and rung, coarse to fine.
 { grep -m1 '^kind,' "$out"; grep -v '^kind,' "$out" | sort -t, -k2,2 -k3,3 -k12,12n -k13,13g -k14,14n; } \
     > Resources/Charts/convergence.csv

@@ -272,6 +272,7 @@ LADDER_STYLE = {
     "rate": ("rate", "tab:blue", "^"),
     "spacing": ("contact spacing", "tab:green", "D"),
     "all": ("all together", "tab:purple", "x"),
+    "joint": ("modes with the rate as M^2 (points L/16032)", "tab:brown", "v"),
 }
 
 
@@ -298,7 +299,11 @@ def convergence_chart(directory):
         ax.set_xticks([1, 2, 3, 4])
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel("LSD between successive refinements, dB (0-100 ms)")
-    axes[0].legend(fontsize=8)
+    labelled = {}  # every panel's curves, each label once (not every scene has every ladder)
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            labelled.setdefault(label, handle)
+    axes[0].legend(labelled.values(), labelled.keys(), fontsize=8)
     save(fig, directory, "convergence.png",
          "The reference refined from 1001 modes, 2 MHz, points L/1002: does each knob converge?")
 

@@ -27,14 +27,19 @@ struct SolverSetup
 };
 
 // The reference (docs/design.md section 2): M = N - 1 modes, distributed obstacles sampled at every
-// grid node x_i = i L/N with weight dx, point obstacles at their own positions.
+// grid node x_i = i L/N with weight dx (or at the scene's contact spacing, or their own), point
+// obstacles at their own positions.
 SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
 {
     SolverSetup s;
     const int M = scene.simulation.modes.value_or(kReferenceModes);
     s.rateHz = scene.simulation.rateHz.value_or(kReferenceRateHz);
-    s.config =
-        stringSolverConfig(scene.string, scene.obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
+    auto obstacles = scene.obstacles;
+    if (const auto spacing = scene.simulation.contactSpacingMetres)
+        for (auto& o : obstacles)
+            if (o.isDistributed() && o.spacing == 0.0)
+                o.spacing = *spacing;
+    s.config = stringSolverConfig(scene.string, obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
     s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
     if (const auto& force = scene.excitation.force)
     {

@@ -202,6 +202,9 @@ void validateScene(const Scene& scene)
                                                 + std::to_string(sim.outputRateHz) + " Hz");
     if (rate * sim.durationSeconds > 1e13)
         throw SceneError("simulation.duration", "rate x duration is more than 1e13 steps");
+    if (const auto spacing = sim.contactSpacingMetres; spacing && !(*spacing >= L * 1e-6 && *spacing <= 0.5 * L))
+        throw SceneError("simulation.contact_spacing", "must be between L/1e6 and L/2 (" + show(L * 1e-6) + " to "
+                                                           + show(0.5 * L) + " m), got " + show(*spacing));
     const int modes = sim.modes.value_or(kReferenceModes);
     for (size_t i = 0; i < scene.string.modeOverrides.size(); ++i)
         if (scene.string.modeOverrides[i].number > modes)
@@ -278,6 +281,8 @@ void readSimulation(const json& value, Simulation& simulation)
                                                 + std::to_string(*m) + ")");
         simulation.modes = static_cast<int>(*m);
     }
+    if (r.has("contact_spacing"))
+        simulation.contactSpacingMetres = r.positive("contact_spacing", 0.0);
     simulation.durationSeconds = r.positive("duration", simulation.durationSeconds);
     simulation.residualCompliance = r.boolean("residual_compliance", simulation.residualCompliance);
     if (r.has("residual_compliance_loss"))

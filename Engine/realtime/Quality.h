@@ -34,10 +34,10 @@ inline constexpr QualitySetting kQualitySettings[] = {
 };
 
 // A bridge (a distributed obstacle) touches over a stretch of contact points, so each step solves
-// them together. At a third of the rate and with the modes to 34.5 kHz it is as close to its reference
-// as at the point table's standard (sitar-bridge: 2.21 dB LSD at 142 modes and 144 kHz, 1.89 dB at 197
-// modes and 288 kHz, both inside the reference's own spread of 1.5-1.9 dB; docs/measurements.md), at
-// half the cost. Same names in the same order; "high" and "paper" are the point table's.
+// them together. On its own points 0.9 mm apart a voice comes no nearer its converged reference than
+// about 2.3 dB at any modes or rate (sitar-bridge: 2.35 dB at 142 modes and 144 kHz, 2.26 dB at high;
+// docs/measurements.md), so the standard runs at a third of the point table's rate with the modes
+// to 34.5 kHz. Same names in the same order; "high" and "paper" are the point table's.
 inline constexpr QualitySetting kBridgeQualitySettings[] = {
     {"draft", 24000.0, 96000.0},
     {"standard", 34500.0, 144000.0},

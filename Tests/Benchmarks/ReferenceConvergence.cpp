@@ -9,6 +9,8 @@
 //   all      (1001, 2 MHz, L/1002), (2003, 4 MHz, L/2004), (4001, 8 MHz, L/4002),
 //            (4001, 16 MHz, L/4002)           (contact points on the solver's own grid)
 //   modes-fine  M = 1001, 2003, 4001 at L/16032 (2 MHz: the points never coarser than the modes)
+//   joint    (1001, 2 MHz), (2003, 8 MHz), (4001, 32 MHz) at L/16032 (+(8003, 128 MHz) with --extend):
+//            the rate grows as M^2, as the stiff string's top mode does
 //
 // Per pair, with the finer rung as the reference, both outputs low-passed at 20 kHz (as in
 // jawari-accuracy): relL2 over the first 100 ms (or the whole render if shorter), and the
@@ -18,10 +20,11 @@
 // The floor row: the base against itself with the pluck's amplitude raised by 1e-4.
 // CSV to stdout, one row per render (CPU seconds, one core) and per pair; progress to stderr.
 // --cache DIR keeps every render's output, so a long study can run in chunks. --ladder adds a
-// ladder of its own (modes:rate:intervals per rung); --knobs "" runs only it.
+// ladder of its own (modes:rate:intervals per rung); --knobs "" runs only it. The renders a study
+// needs run side by side, one a core (--jobs N, every core by default); the rows come out in order.
 //
-//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine] [--rungs N]
-//                      [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick]
+//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint] [--rungs N]
+//                      [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick] [--jobs N]
 
 #include "offline/Analysis.h"
 #include "offline/CpuClock.h"
@@ -35,9 +38,15 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 using namespace jawari;
@@ -71,13 +80,17 @@ std::vector<Ladder> allLadders(bool extend)
         {"all", {{1001, 2e6, 1002}, {2003, 4e6, 2004}, {4001, 8e6, 4002}, {4001, 16e6, 4002}}},
         // The modes again with the contact points as fine as the spacing ladder's last rung, so the
         // string between two points is never finer than the points (projection: off the grid).
-        {"modes-fine", {{1001, 2e6, 16032}, {2003, 2e6, 16032}, {4001, 2e6, 16032}}}};
+        {"modes-fine", {{1001, 2e6, 16032}, {2003, 2e6, 16032}, {4001, 2e6, 16032}}},
+        // Modes and rate together, the rate as the square of the modes (a stiff string's top mode
+        // grows as M^2, so the step keeps its ratio to that mode's period), the points at L/16032.
+        {"joint", {{1001, 2e6, 16032}, {2003, 8e6, 16032}, {4001, 32e6, 16032}}}};
     if (extend)
     {
         ladders[0].rungs.push_back({8003, 2e6, 1002});
         ladders[1].rungs.push_back({1001, 32e6, 1002});
         ladders[2].rungs.push_back({1001, 2e6, 8016});
         ladders[2].rungs.push_back({1001, 2e6, 16032});
+        ladders[5].rungs.push_back({8003, 128e6, 16032});
     }
     return ladders;
 }
@@ -86,16 +99,18 @@ struct Options
 {
     std::string scenePath = std::string(JAWARI_RESOURCES_DIR) + "/Scenes/sitar-bridge.json";
     double duration = 0.1;
-    std::vector<std::string> knobs{"modes", "rate", "spacing", "all", "modes-fine"};
+    std::vector<std::string> knobs{"modes", "rate", "spacing", "all", "modes-fine", "joint"};
     size_t rungs = 100;
     std::string cacheDir;
     bool floor = true;
     bool extend = false;
     std::vector<Rung> custom;  // --ladder: its own rungs, run after the named knobs
+    unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
 };
 
-const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine]\n"
-                     "                          [--rungs N] [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick]\n";
+const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint]\n"
+                     "                          [--rungs N] [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick]\n"
+                     "                          [--jobs N]\n";
 
 std::vector<std::string> splitCommas(const std::string& text)
 {
@@ -143,7 +158,7 @@ bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
 // Reads the command line into `o`; false (after a message) on anything it does not understand.
 bool parseOptions(int argc, char** argv, Options& o)
 {
-    const std::vector<std::string> known{"modes", "rate", "spacing", "all", "modes-fine"};
+    const std::vector<std::string> known{"modes", "rate", "spacing", "all", "modes-fine", "joint"};
     for (int i = 1; i < argc; ++i)
     {
         const std::string a = argv[i];
@@ -155,7 +170,7 @@ bool parseOptions(int argc, char** argv, Options& o)
         else if (a == "--extend")
             o.extend = true;
         else if (a == "--scene" || a == "--duration" || a == "--knobs" || a == "--rungs" || a == "--cache"
-                 || a == "--ladder")
+                 || a == "--ladder" || a == "--jobs")
         {
             if (!hasValue)
                 return fail(a + " needs a value");
@@ -175,6 +190,13 @@ bool parseOptions(int argc, char** argv, Options& o)
                 if (!(o.duration >= 0.05 && o.duration <= 10.0))
                     return fail(std::string("--duration must be a number of seconds in [0.05, 10], got '") + v + "'");
             }
+            else if (a == "--jobs")
+            {
+                const double n = parseNumber(v);
+                if (!(n >= 1.0 && n <= 256.0 && n == std::floor(n)))
+                    return fail(std::string("--jobs must be a whole number from 1 to 256, got '") + v + "'");
+                o.jobs = static_cast<unsigned>(n);
+            }
             else if (a == "--rungs")
             {
                 const double n = parseNumber(v);
@@ -187,7 +209,7 @@ bool parseOptions(int argc, char** argv, Options& o)
                 o.knobs = *v == '\0' ? std::vector<std::string>{} : splitCommas(v);
                 for (const auto& k : o.knobs)
                     if (std::find(known.begin(), known.end(), k) == known.end())
-                        return fail("unknown knob '" + k + "' (knobs: modes, rate, spacing, all, modes-fine)");
+                        return fail("unknown knob '" + k + "' (knobs: modes, rate, spacing, all, modes-fine, joint)");
             }
         }
         else
@@ -265,6 +287,20 @@ void writeCache(const std::string& path, const Rendered& r)
     std::fclose(f);
 }
 
+// The scene file's name and a hash of its text (FNV-1a, 32 bits): a cached render of an edited scene
+// is never taken for the new one's.
+std::string cacheStem(const std::string& scenePath)
+{
+    std::ifstream file(scenePath, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    uint32_t hash = 2166136261u;
+    for (unsigned char c : text)
+        hash = (hash ^ c) * 16777619u;
+    char tag[16];
+    std::snprintf(tag, sizeof tag, "-%08x", hash);
+    return std::filesystem::path(scenePath).stem().string() + tag;
+}
+
 class Study
 {
 public:
@@ -272,26 +308,74 @@ public:
         : options_(options)
         , base_(std::move(base))
         , stem_(std::filesystem::path(options.scenePath).stem().string())
+        , cacheStem_(cacheStem(options.scenePath))
     {
     }
 
-    // The rung's render: from memory, from the cache directory, or rendered now (and printed).
+    // Renders every (rung, pluck scale) not yet in memory or in the cache, `jobs` at a time, each
+    // on its own thread (renderScene shares nothing but the FFTW planner, which is locked).
+    void prefetch(const std::vector<std::pair<Rung, double>>& wanted, unsigned jobs)
+    {
+        std::vector<std::pair<Rung, double>> missing;
+        for (const auto& [r, scale] : wanted)
+        {
+            const std::string name = cacheName(cacheStem_, r, options_.duration, scale);
+            if (done_.count(name) != 0)
+                continue;
+            Rendered out;
+            if (readCache(cachePath(name), out))
+                done_.emplace(name, Entry{std::move(out)});
+            else if (std::none_of(missing.begin(), missing.end(), [&](const auto& m) {
+                         return cacheName(cacheStem_, m.first, options_.duration, m.second) == name;
+                     }))
+                missing.emplace_back(r, scale);
+        }
+        // The dearest first (modes x rate), so that the last one to finish is a cheap one.
+        std::stable_sort(missing.begin(), missing.end(), [](const auto& a, const auto& b) {
+            return a.first.modes * a.first.rateHz > b.first.modes * b.first.rateHz;
+        });
+        std::vector<Rendered> outputs(missing.size());
+        std::mutex progress;
+        size_t next = 0;
+        auto worker = [&] {
+            for (;;)
+            {
+                size_t k;
+                {
+                    std::lock_guard<std::mutex> lock(progress);
+                    if (next == missing.size())
+                        return;
+                    k = next++;
+                    std::fprintf(stderr, "rendering %s\n",
+                                 cacheName(cacheStem_, missing[k].first, options_.duration, missing[k].second).c_str());
+                }
+                renderNow(sceneAt(base_, missing[k].first, options_.duration, missing[k].second), outputs[k]);
+            }
+        };
+        std::vector<std::thread> pool;
+        for (unsigned j = 0; j < std::min<size_t>(jobs, missing.size()); ++j)
+            pool.emplace_back(worker);
+        for (auto& t : pool)
+            t.join();
+        for (size_t k = 0; k < missing.size(); ++k)
+        {
+            const std::string name = cacheName(cacheStem_, missing[k].first, options_.duration, missing[k].second);
+            writeCache(cachePath(name), outputs[k]);
+            done_.emplace(name, Entry{std::move(outputs[k])});
+        }
+    }
+
+    // The rung's render (rendered now if no prefetch brought it), its row printed the first time.
     const Rendered& render(const Rung& r, double amplitudeScale = 1.0)
     {
-        const std::string name = cacheName(stem_, r, options_.duration, amplitudeScale);
-        if (auto it = done_.find(name); it != done_.end())
-            return it->second;
-        Rendered out;
-        const std::string path = options_.cacheDir.empty() ? "" : options_.cacheDir + "/" + name;
-        if (path.empty() || !readCache(path, out))
-        {
-            std::fprintf(stderr, "rendering %s\n", name.c_str());
-            renderNow(sceneAt(base_, r, options_.duration, amplitudeScale), out);
-            if (!path.empty())
-                writeCache(path, out);
-        }
-        printRender(r, amplitudeScale, out);
-        return done_.emplace(name, std::move(out)).first->second;
+        const std::string name = cacheName(cacheStem_, r, options_.duration, amplitudeScale);
+        if (done_.count(name) == 0)
+            prefetch({{r, amplitudeScale}}, 1);
+        Entry& entry = done_.at(name);
+        if (!entry.printed)
+            printRender(r, amplitudeScale, entry.rendered);
+        entry.printed = true;
+        return entry.rendered;
     }
 
     // y against the finer (or unperturbed) ref: relL2 over 100 ms, LSD at 2048 and 1024 points.
@@ -350,8 +434,20 @@ private:
 
     const Options& options_;
     Scene base_;
-    std::string stem_;
-    std::map<std::string, Rendered> done_;
+    std::string stem_;       // the scene's name in the rows
+    std::string cacheStem_;  // and in the cache's file names
+    std::string cachePath(const std::string& name) const
+    {
+        return options_.cacheDir.empty() ? "" : options_.cacheDir + "/" + name;
+    }
+
+    struct Entry
+    {
+        Rendered rendered;
+        bool printed = false;
+    };
+
+    std::map<std::string, Entry> done_;
 };
 
 // A ladder's renders and its successive pairs, the finer rung of each pair as the reference.
@@ -388,18 +484,28 @@ int main(int argc, char** argv)
     std::printf("kind,scene,ladder,modes,rate_hz,intervals,contact_points,path,cpu_s,newton_max,penetration_m,"
                 "vs_modes,vs_rate_hz,vs_intervals,rel_l2_100ms,lsd_db_2048,lsd_db_1024\n");
     Study study(options, base);
+    std::vector<Ladder> ladders;
+    for (const auto& ladder : allLadders(options.extend))
+        if (std::find(options.knobs.begin(), options.knobs.end(), ladder.name) != options.knobs.end())
+            ladders.push_back(ladder);
+    if (!options.custom.empty())
+        ladders.push_back({"custom", options.custom});
     try
     {
+        std::vector<std::pair<Rung, double>> wanted;
+        if (options.floor)
+            wanted = {{Rung{}, 1.0 + 1e-4}, {Rung{}, 1.0}};
+        for (const auto& ladder : ladders)
+            for (size_t k = 0; k < std::min(options.rungs, ladder.rungs.size()); ++k)
+                wanted.emplace_back(ladder.rungs[k], 1.0);
+        study.prefetch(wanted, options.jobs);
         if (options.floor)
         {
             const Rung b;
             study.printPair("floor", "amplitude*(1+1e-4)", b, b, study.render(b, 1.0 + 1e-4), study.render(b));
         }
-        for (const auto& ladder : allLadders(options.extend))
-            if (std::find(options.knobs.begin(), options.knobs.end(), ladder.name) != options.knobs.end())
-                runLadder(study, ladder, options.rungs);
-        if (!options.custom.empty())
-            runLadder(study, {"custom", options.custom}, options.rungs);
+        for (const auto& ladder : ladders)
+            runLadder(study, ladder, options.rungs);
     }
     catch (const std::exception& e)
     {
