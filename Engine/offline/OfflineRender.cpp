@@ -26,8 +26,8 @@ struct SolverSetup
     double rateHz = 0.0;
 };
 
-// The reference (docs/design.md section 2): M = N - 1 modes, distributed obstacles sampled at every
-// grid node x_i = i L/N with weight dx (or at the scene's contact spacing, or their own), point
+// The reference (docs/design.md section 2): M = N - 1 modes, distributed obstacles sampled on their
+// own contact grid (Obstacle.h: their spacing, else the scene's contact spacing, else L/1002), point
 // obstacles at their own positions.
 SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
 {

@@ -58,7 +58,7 @@ struct Simulation
     std::optional<double> rateHz;  // internal rate; reference default 2 MHz, realtime: automatic
     std::optional<int> modes;      // reference default 1001, realtime: automatic
     // The reference's contact points on every distributed obstacle that gives no spacing of its own
-    // (m); empty: its mode grid, L/(M+1). The voice keeps its own points.
+    // (m); empty: the contact grid's, L/1002 (Obstacle.h). The voice keeps its own points.
     std::optional<double> contactSpacingMetres;
     double durationSeconds = 1.0;
     int outputRateHz = 48000;

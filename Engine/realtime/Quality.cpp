@@ -36,6 +36,7 @@ VoiceQuality resolveQuality(const QualitySetting& setting, const StringParameter
         q.modes = M;
     }
     q.oversampling = std::clamp(static_cast<int>(std::ceil(setting.minimumRateHz / hostRateHz - 1e-9)), 1, 256);
+    q.contactIntervals = setting.contactIntervals;
     return q;
 }
 

@@ -109,6 +109,8 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
             o.type = ObstacleType::parabola;
             o.position = clampFraction(s.obstaclePosition) * L;
             o.curvature = std::max(0.0, s.curvature);
+            if (const int intervals = instrumentQuality(s).contactIntervals; intervals > 0)
+                o.spacing = L / intervals;  // the quality's points (Quality.h), the thread's band's too
             if (s.thread)
             {
                 // The string rests on its highest support (the thread, or a steep bridge's crown) at
