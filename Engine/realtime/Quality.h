@@ -39,9 +39,9 @@ inline constexpr QualitySetting kQualitySettings[] = {
 // them together. On its own points 0.9 mm apart a voice comes no nearer its converged reference than
 // about 2.3 dB at any modes or rate (sitar-bridge: 2.35 dB at 142 modes and 144 kHz; docs/
 // measurements.md), so the standard runs at a third of the point table's rate with the modes to
-// 34.5 kHz. High takes the point table's modes on points four times finer (0.22 mm) at 288 kHz:
-// 1.28 dB from it, where the point table's high on the bridge's own points is 2.26 dB for about the
-// same CPU. Same names in the same order; "paper" is the point table's.
+// 34.5 kHz. High takes the point table's modes on points four times finer (L/4008, 0.22 mm on the
+// Sitar's string) at 288 kHz: 1.28 dB from it, where the point table's high on the bridge's own
+// points is 2.26 dB for about the same CPU. Same names in the same order; "paper" is the point table's.
 inline constexpr QualitySetting kBridgeQualitySettings[] = {
     {"draft", 24000.0, 96000.0},
     {"standard", 34500.0, 144000.0},
