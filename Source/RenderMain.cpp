@@ -236,11 +236,7 @@ void applyMethod(jawari::Scene& scene, const Request& q)
         std::fprintf(stderr, "note: --method %s: the scene's modes/rate were set for its %s method and are not used\n",
                      jawari::methodName(chosen), jawari::methodName(scene.simulation));
     if (switchesSolver)
-    {
-        scene.simulation.modes.reset();
-        scene.simulation.rateHz.reset();
-        scene.simulation.contactSpacingMetres.reset();
-    }
+        scene.simulation.forgetConfiguration();
     scene.simulation.reference = chosen.reference;
     scene.simulation.contact = chosen.contact;
 }

@@ -11,6 +11,7 @@
 // pass. Asked for by tag there (jawari-engine-tests "[checksum]"), they print that build's hashes
 // and check nothing.
 
+#include "Fnv1a.h"
 #include "TestSupport.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
@@ -36,17 +37,7 @@ constexpr bool kHashesApply = false;
 #define JAWARI_CHECKSUM_TAGS "[.][checksum]"
 #endif
 
-struct Fnv1a
-{
-    uint64_t value = 1469598103934665603ull;
-    void add(const void* data, size_t bytes)
-    {
-        const auto* p = static_cast<const unsigned char*>(data);
-        for (size_t i = 0; i < bytes; ++i)
-            value = (value ^ p[i]) * 1099511628211ull;
-    }
-    void add(const std::vector<double>& v) { add(v.data(), v.size() * sizeof(double)); }
-};
+using test::Fnv1a;
 
 std::string hex(uint64_t v)
 {

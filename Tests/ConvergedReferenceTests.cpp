@@ -76,7 +76,6 @@ TEST_CASE("sitar-bridge against its converged reference: the bridge table's draf
         const auto q = resolveQuality(*qualityByName(settings[k].name, ObstacleKind::bridge), scene.string, 48000.0);
         auto voice = scene;
         voice.simulation.reference = false;
-        voice.simulation.contactSpacingMetres.reset();
         voice.simulation.modes = q.modes;
         voice.simulation.rateHz = q.oversampling * 48000.0;
         if (q.contactIntervals > 0)  // the bridge's points as the plugin lays them at this quality

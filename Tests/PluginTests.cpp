@@ -523,8 +523,8 @@ TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
             auto* param = params[int(rng() % unsigned(params.size()))];
             float value = std::uniform_real_distribution<float>(0.0f, 1.0f)(rng);
             // Quality "paper" would make this test slow; the penalty method blows up by design (its
-            // guard mutes it: VoiceTests) and the quadratised one runs away on stiff frets of a high
-            // exponent; a gain above 0 dB may take loud notes past the output guard's +12 dBFS (the
+            // guard mutes it: VoiceTests) and the quadratised one went past +12 dBFS on stiff frets
+            // of a high exponent; a gain above 0 dB may take loud notes past the output guard's +12 dBFS (the
             // extremes test below takes it to +12 dB), and so does an obstacle above the string's
             // rest line, which launches a string plucked into it with the energy its contact holds.
             // Every other value of everything goes.

@@ -334,8 +334,7 @@ TEST_CASE("The voice plays two polarisations, its coupling in its modes, close t
     auto voiceScene = scene;
     voiceScene.simulation.reference = false;
     voiceScene.simulation.contact = ContactMethod::quadraticSpline;
-    voiceScene.simulation.modes.reset();
-    voiceScene.simulation.rateHz.reset();
+    voiceScene.simulation.forgetConfiguration();
     const auto voice = renderScene(voiceScene);
     REQUIRE(voice.output.size() == reference.output.size());
     const double lsd = logSpectralDistance(voice.output, reference.output, 48000.0);
@@ -354,8 +353,7 @@ TEST_CASE("With two polarisations the tanpura's band of overtones still falls as
     auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
     scene.simulation.reference = false;
     scene.simulation.contact = ContactMethod::quadraticSpline;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     scene.excitation.angle = 0.3;
     SecondPolarisation second;
     second.detuning = 1e-3;
@@ -442,8 +440,7 @@ Scene threadedTanpuraScene(double offset, bool twoPolarisations)
     auto scene = loadSceneFile(test::resource("Scenes/tanpura-thread.json"));
     scene.simulation.reference = false;
     scene.simulation.contact = ContactMethod::energyConserving;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     if (!twoPolarisations)
         scene.secondPolarisation.reset();
     // The scene's bridge at its own height again, the thread moved to `offset` and laid anew.

@@ -3,6 +3,8 @@
 // run: stored once in Resources/References as the renderer wrote them (`jawari-render SCENE -o
 // FILE --raw`: 32-bit float WAV, SI units, at the scene's output rate), read here with JUCE.
 
+#include "Fnv1a.h"
+
 #include <juce_audio_formats/juce_audio_formats.h>
 
 #include <catch2/catch.hpp>
@@ -19,7 +21,7 @@ struct StoredReference
 {
     double rateHz = 0.0;
     std::vector<double> samples;
-    uint64_t fnv1a = 1469598103934665603ull;  // over the file's 32-bit samples, as stored
+    uint64_t fnv1a = 0;  // over the file's 32-bit samples, as stored
 };
 
 // Resources/References/NAME.wav, one channel of 32-bit floats.
@@ -35,14 +37,11 @@ inline StoredReference storedReference(const std::string& name)
     REQUIRE(reader->read(&buffer, 0, buffer.getNumSamples(), 0, true, false));
     StoredReference r;
     r.rateHz = reader->sampleRate;
-    for (int i = 0; i < buffer.getNumSamples(); ++i)
-    {
-        const float v = buffer.getSample(0, i);
-        const auto* bytes = reinterpret_cast<const unsigned char*>(&v);
-        for (size_t b = 0; b < sizeof v; ++b)
-            r.fnv1a = (r.fnv1a ^ bytes[b]) * 1099511628211ull;
-        r.samples.push_back(v);
-    }
+    const float* stored = buffer.getReadPointer(0);
+    Fnv1a hash;
+    hash.add(stored, size_t(buffer.getNumSamples()) * sizeof(float));
+    r.fnv1a = hash.value;
+    r.samples.assign(stored, stored + buffer.getNumSamples());
     return r;
 }
 

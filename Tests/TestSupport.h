@@ -27,9 +27,7 @@ inline std::string resource(const std::string& name)
 // points on that grid unless it gives its own), whatever converged configuration the scene names.
 inline Scene atPaperConfiguration(Scene scene)
 {
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
-    scene.simulation.contactSpacingMetres.reset();
+    scene.simulation.forgetConfiguration();
     return scene;
 }
 

@@ -111,8 +111,7 @@ TEST_CASE("the automatic quality gives the standard setting's modes and rate for
 {
     auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
     scene.simulation.reference = false;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     const auto q = automaticQuality(scene);
     // f_p = p f0 sqrt(1 + B p^2) <= 51.3 kHz: p = 200 (51.29 kHz), 201 would be 51.65 kHz; 6 x 48 kHz.
     CHECK(q.modes == 200);
@@ -215,8 +214,7 @@ LosslessRun losslessVoiceRun(Scene scene, bool residualCompliance, long steps, b
     }
     scene.simulation.reference = false;
     scene.simulation.contact = ContactMethod::energyConserving;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     scene.simulation.residualCompliance = residualCompliance;
     const auto quality = automaticQuality(scene);
     scene.simulation.durationSeconds = double(steps + 2 * quality.oversampling)
@@ -334,8 +332,7 @@ TEST_CASE("the voice plays in tune at every host rate from 22.05 kHz to 192 kHz"
     for (double host : {22050.0, 44100.0, 48000.0, 50000.0, 88200.0, 96000.0, 192000.0})
     {
         scene.simulation.reference = false;
-        scene.simulation.modes.reset();
-        scene.simulation.rateHz.reset();
+        scene.simulation.forgetConfiguration();
         scene.simulation.outputRateHz = static_cast<int>(host);
         scene.simulation.durationSeconds = 0.5;
         auto free = scene;
@@ -360,8 +357,7 @@ TEST_CASE("a scene without obstacles gets no oversampling and only the audible m
     auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
     scene.obstacles.clear();
     scene.simulation.reference = false;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     scene.simulation.durationSeconds = 0.5;
     const auto q = automaticQuality(scene);
     // f_p <= 20 kHz: p = 94 (19.82 kHz; 95 would be 20.06 kHz) for the paper string.
@@ -452,8 +448,7 @@ TEST_CASE("the reach bound holds and an obstacle beyond it is modelled as no obs
     // the free string at the host rate; the render matches the reference, which never touches.
     scene.obstacles[0].height = -5e-3;
     scene.simulation.reference = false;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     CHECK_FALSE(obstacleReachable(scene, scene.obstacles[0]));
     const auto q = automaticQuality(scene);
     CHECK(q.oversampling == 1);
@@ -510,8 +505,7 @@ TEST_CASE("a soft obstacle gets a lower automatic rate and stays within the stan
     auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
     scene.obstacles[0].law = {1e7, 1.0};  // soft: a contact time constant of about 92 us
     scene.simulation.reference = false;
-    scene.simulation.modes.reset();
-    scene.simulation.rateHz.reset();
+    scene.simulation.forgetConfiguration();
     const double tau = contactTimeConstant(scene, scene.obstacles[0]);
     const auto q = automaticQuality(scene);
     const auto voice = renderScene(scene);

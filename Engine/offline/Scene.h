@@ -66,6 +66,15 @@ struct Simulation
     // Its loss share theta in [0, 1] (VoiceConfig::residualComplianceLoss); empty: the voice's rule.
     std::optional<double> residualComplianceLoss;
     bool staticPickup = true;  // the voice's methods: the modes above the output's Nyquist frequency read statically
+
+    // Drops the modes, rate and contact spacing chosen for one solver: the reference's defaults (the
+    // paper's configuration) or the voice's automatic choice apply.
+    void forgetConfiguration()
+    {
+        modes.reset();
+        rateHz.reset();
+        contactSpacingMetres.reset();
+    }
 };
 
 struct Scene

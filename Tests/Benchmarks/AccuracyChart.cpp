@@ -92,9 +92,7 @@ int main(int argc, char** argv)
         // grid) on every scene: sitar-bridge's converged one (ten CPU minutes a second, three times
         // over with the floors) is measured against the voice by the plugin tests' ConvergedReferenceTests.
         auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
-        base.simulation.modes.reset();
-        base.simulation.rateHz.reset();
-        base.simulation.contactSpacingMetres.reset();
+        base.simulation.forgetConfiguration();
         const auto reference = renderScene(base);
         const auto ref = lowpass(reference.output, 48000, 20000);
         const double buzzFromHz = 10.0 * buildModalTable(base.string, 1).frequencyHz.front();

@@ -316,23 +316,28 @@ public:
     // on its own thread (renderScene shares nothing but the FFTW planner, which is locked).
     void prefetch(const std::vector<std::pair<Rung, double>>& wanted, unsigned jobs)
     {
-        std::vector<std::pair<Rung, double>> missing;
+        struct Job
+        {
+            Rung rung;
+            double scale;
+            std::string name;
+        };
+        std::vector<Job> missing;
         for (const auto& [r, scale] : wanted)
         {
-            const std::string name = cacheName(cacheStem_, r, options_.duration, scale);
-            if (done_.count(name) != 0)
-                continue;
+            std::string name = cacheName(cacheStem_, r, options_.duration, scale);
             Rendered out;
+            if (done_.count(name) != 0
+                || std::any_of(missing.begin(), missing.end(), [&](const Job& j) { return j.name == name; }))
+                continue;
             if (readCache(cachePath(name), out))
                 done_.emplace(name, Entry{std::move(out)});
-            else if (std::none_of(missing.begin(), missing.end(), [&](const auto& m) {
-                         return cacheName(cacheStem_, m.first, options_.duration, m.second) == name;
-                     }))
-                missing.emplace_back(r, scale);
+            else
+                missing.push_back({r, scale, std::move(name)});
         }
         // The dearest first (modes x rate), so that the last one to finish is a cheap one.
-        std::stable_sort(missing.begin(), missing.end(), [](const auto& a, const auto& b) {
-            return a.first.modes * a.first.rateHz > b.first.modes * b.first.rateHz;
+        std::stable_sort(missing.begin(), missing.end(), [](const Job& a, const Job& b) {
+            return a.rung.modes * a.rung.rateHz > b.rung.modes * b.rung.rateHz;
         });
         std::vector<Rendered> outputs(missing.size());
         std::mutex progress;
@@ -346,10 +351,9 @@ public:
                     if (next == missing.size())
                         return;
                     k = next++;
-                    std::fprintf(stderr, "rendering %s\n",
-                                 cacheName(cacheStem_, missing[k].first, options_.duration, missing[k].second).c_str());
+                    std::fprintf(stderr, "rendering %s\n", missing[k].name.c_str());
                 }
-                renderNow(sceneAt(base_, missing[k].first, options_.duration, missing[k].second), outputs[k]);
+                renderNow(sceneAt(base_, missing[k].rung, options_.duration, missing[k].scale), outputs[k]);
             }
         };
         std::vector<std::thread> pool;
@@ -359,9 +363,8 @@ public:
             t.join();
         for (size_t k = 0; k < missing.size(); ++k)
         {
-            const std::string name = cacheName(cacheStem_, missing[k].first, options_.duration, missing[k].second);
-            writeCache(cachePath(name), outputs[k]);
-            done_.emplace(name, Entry{std::move(outputs[k])});
+            writeCache(cachePath(missing[k].name), outputs[k]);
+            done_.emplace(missing[k].name, Entry{std::move(outputs[k])});
         }
     }
 

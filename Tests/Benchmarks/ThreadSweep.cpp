@@ -68,8 +68,7 @@ Scene sweepScene(double threadAt, int polarisations, bool reference, bool coupli
     {
         s.simulation.reference = false;
         s.simulation.contact = ContactMethod::energyConserving;
-        s.simulation.modes.reset();
-        s.simulation.rateHz.reset();
+        s.simulation.forgetConfiguration();
     }
     if (polarisations == 2)
     {
