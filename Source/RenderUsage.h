@@ -20,7 +20,7 @@ usage: jawari-render SCENE.json -o OUT.wav [options]
   --output-rate HZ        sample rate of the WAV file
   --format NAME           the WAV's samples: int24 (24-bit integer, the default) or float (32-bit
                           IEEE float); a scene is normalised to a -1 dBFS peak in either
-  --raw                   write the pickup quantity in SI units (m, m/s or N) as 32-bit float,
+  --raw                   write the pickup quantity in SI units (m, m/s, N or Pa) as 32-bit float,
                           not normalised (implies --format float)
   --energy FILE.csv       log per output sample: time, energy H, contact energy, Newton iterations
   --quiet                 no progress bar and no summary

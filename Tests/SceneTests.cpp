@@ -125,7 +125,7 @@ TEST_CASE("bad scenes are rejected with the field named")
          "excitation.position: must lie on the string"},
         {R"({"format": "jawari-scene/1", "excitation": {"amplitude": 1e999}})", "number overflow"},
         {R"({"format": "jawari-scene/1", "pickup": {"position": 1.002}})", "pickup.position: must lie on the string"},
-        {R"({"format": "jawari-scene/1", "pickup": {"quantity": "pressure"}})", "pickup.quantity: unknown value"},
+        {R"({"format": "jawari-scene/1", "pickup": {"quantity": "loudness"}})", "pickup.quantity: unknown value"},
         {R"({"format": "jawari-scene/1", "simulation": {"method": "magic"}})", "simulation.method: unknown value"},
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 0}})", "simulation.rate: must be > 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 20000}})", "simulation.rate: the internal rate"},

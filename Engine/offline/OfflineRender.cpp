@@ -4,7 +4,9 @@
 #include "offline/CpuClock.h"
 #include "offline/DstTransform.h"
 #include "offline/Resampler.h"
+#include "physics/ModalBody.h"
 #include "physics/ModalSolver.h"
+#include "physics/StringDiscretisation.h"
 #include "realtime/Denormals.h"
 #include "realtime/Voice.h"
 
@@ -24,7 +26,36 @@ struct SolverSetup
     ModalSolverConfig config;
     std::vector<double> initial;
     double rateHz = 0.0;
+    std::vector<int> bridgePoints;  // the contact points whose force the "bridge_force" quantity sums
 };
+
+// Which of the configuration's contact points stand on the body (every obstacle's without a body):
+// those of the body's obstacles (each obstacle's points follow the previous one's, contactPointsOnGrid's
+// order); the polarisations' coupling points after them do not.
+std::vector<char> pointsOnBody(const std::vector<Obstacle>& obstacles, const std::optional<SceneBody>& body, double L,
+                               int gridIntervals, size_t pointCount)
+{
+    std::vector<char> on;
+    for (size_t i = 0; i < obstacles.size(); ++i)
+    {
+        const bool standing =
+            !body || std::find(body->obstacles.begin(), body->obstacles.end(), int(i)) != body->obstacles.end();
+        on.resize(on.size() + contactPointsOnGrid({obstacles[i]}, L, gridIntervals).size(), standing ? 1 : 0);
+    }
+    on.resize(pointCount, 0);
+    return on;
+}
+
+// The body's modes after the strings' (ModalBody.h), at rest; the pressure pickup reads them.
+void addBody(SolverSetup& s, const Scene& scene, const std::vector<char>& onBody)
+{
+    const auto& body = *scene.body;
+    const int stringModes = s.config.modes.size();
+    s.config = withBody(s.config, {&body.body, onBody, body.coupling});
+    s.initial.resize(size_t(s.config.modes.size()), 0.0);
+    if (scene.pickup.quantity == PickupQuantity::pressure)
+        s.config.pickupWeights = radiationWeights(body.body, stringModes, scene.string.linearDensity);
+}
 
 // The reference (docs/design.md section 2): M = N - 1 modes, distributed obstacles sampled on their
 // own contact grid (Obstacle.h: their spacing, else the scene's contact spacing, else L/1002), point
@@ -57,18 +88,31 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
             s.initial[size_t(M + p)] = std::sin(angle) * s.initial[size_t(p)];
             s.initial[size_t(p)] *= std::cos(angle);
         }
-        return s;
     }
-    chooseContactPath(s.config, path.value_or(ContactPath::automatic));
+    else if (!scene.body)
+        chooseContactPath(s.config, path.value_or(ContactPath::automatic));
+    const int grid = scene.simulation.modes.value_or(kReferenceModes) + 1;
+    const auto onBody = pointsOnBody(obstacles, scene.body, scene.string.lengthMetres, grid, s.config.contacts.size());
+    for (size_t j = 0; j < onBody.size(); ++j)
+        if (onBody[j])
+            s.bridgePoints.push_back(int(j));
+    if (scene.body)
+    {
+        if (path == ContactPath::transform)
+            throw std::invalid_argument("a body couples the contact points: it takes the projection path");
+        addBody(s, scene, onBody);
+    }
     return s;
 }
 
 // Steps the solver, handing each internal sample of the pickup quantity to `sink`, and each
-// step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt.
+// step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt,
+// pressure the second difference of the body's radiation reading, the bridge force the step's contact forces
+// at the bridge's points, negated.
 // A force pluck pushes at each step's start.
 template <typename Sink, typename AfterStep>
-void run(ModalSolver& solver, const Scene& scene, long long steps, RenderStats& stats, const RenderOptions& options,
-         Sink&& sink, AfterStep&& afterStep)
+void run(ModalSolver& solver, const Scene& scene, const std::vector<int>& bridgePoints, long long steps,
+         RenderStats& stats, const RenderOptions& options, Sink&& sink, AfterStep&& afterStep)
 {
     const PickupQuantity quantity = scene.pickup.quantity;
     const auto& force = scene.excitation.force;
@@ -88,6 +132,14 @@ void run(ModalSolver& solver, const Scene& scene, long long steps, RenderStats& 
         double sample = y;
         if (quantity == PickupQuantity::velocity)
             sample = n == 0 ? 0.0 : (yNext - yPrev) / (2.0 * dt);
+        else if (quantity == PickupQuantity::pressure)  // sum_k c_k z_k'': the body starts at rest
+            sample = n == 0 ? 0.0 : (yNext - 2.0 * y + yPrev) / (dt * dt);
+        else if (quantity == PickupQuantity::bridgeForce)  // the step's contact force, centred on t^n
+        {
+            sample = 0.0;
+            for (const int j : bridgePoints)
+                sample -= solver.contactForce(j);
+        }
         sink(sample);
         yPrev = y;
         y = yNext;
@@ -218,7 +270,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     std::vector<double> out;
     out.reserve(static_cast<size_t>(steps));
     run(
-        solver, scene, steps, stats, options, [&](double v) { out.push_back(v); },
+        solver, scene, setup.bridgePoints, steps, stats, options, [&](double v) { out.push_back(v); },
         [](long long, int) {});
     if (statsOut)
         *statsOut = stats;
@@ -334,7 +386,7 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     if (options.logEnergy)
         log.emplace(solver, setup.rateHz, result.outputRateHz, outputCount, result.energy);
     run(
-        solver, scene, steps, result.stats, options, [&](double v) { output.push(v); },
+        solver, scene, setup.bridgePoints, steps, result.stats, options, [&](double v) { output.push(v); },
         [&](long long n, int iterations) {
             if (log)
                 log->afterStep(n, iterations);

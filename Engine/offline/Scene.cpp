@@ -133,6 +133,8 @@ const char* quantityName(PickupQuantity q)
         case PickupQuantity::displacement: return "displacement";
         case PickupQuantity::velocity: return "velocity";
         case PickupQuantity::force: return "force";
+        case PickupQuantity::pressure: return "pressure";
+        case PickupQuantity::bridgeForce: return "bridge_force";
     }
     return "displacement";
 }
@@ -144,6 +146,8 @@ const char* quantityUnit(PickupQuantity q)
         case PickupQuantity::displacement: return "m";
         case PickupQuantity::velocity: return "m/s";
         case PickupQuantity::force: return "N";
+        case PickupQuantity::pressure: return "Pa";
+        case PickupQuantity::bridgeForce: return "N";
     }
     return "m";
 }
@@ -218,6 +222,7 @@ void validateScene(const Scene& scene)
             requireOnString("second_polarisation.coupling.position", second->coupling.position, L);
     }
     requireOnString("pickup.position", scene.pickup.position, L);
+    validateSceneBody(scene);
     for (size_t i = 0; i < scene.obstacles.size(); ++i)
     {
         const auto& ob = scene.obstacles[i];
@@ -258,10 +263,12 @@ void readPickup(const json& value, Pickup& pickup)
 {
     ObjectReader r(value, "pickup");
     pickup.position = r.number("position", pickup.position);
-    const auto q = r.string("quantity", "displacement", {"displacement", "velocity", "force"});
-    pickup.quantity = q == "velocity" ? PickupQuantity::velocity
-                      : q == "force"  ? PickupQuantity::force
-                                      : PickupQuantity::displacement;
+    const auto q = r.string("quantity", "displacement", {"displacement", "velocity", "force", "pressure", "bridge_force"});
+    pickup.quantity = q == "velocity"   ? PickupQuantity::velocity
+                      : q == "force"    ? PickupQuantity::force
+                      : q == "pressure" ? PickupQuantity::pressure
+                      : q == "bridge_force" ? PickupQuantity::bridgeForce
+                                        : PickupQuantity::displacement;
     r.rejectUnknown();
 }
 
@@ -334,6 +341,8 @@ Scene parseScene(const std::string& jsonText)
         scene.secondPolarisation = readSecondPolarisation(top.raw("second_polarisation"));
     if (scene.secondPolarisation)
         scene.secondPolarisation->excitationAngle = scene.excitation.angle;
+    if (top.has("body"))
+        scene.body = readBody(top.raw("body"), scene);
     top.rejectUnknown();
     validateScene(scene);
     return scene;

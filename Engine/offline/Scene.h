@@ -5,6 +5,7 @@
 
 #include "physics/ContactMethod.h"
 #include "physics/ForcePluck.h"
+#include "physics/ModalBody.h"
 #include "physics/Obstacle.h"
 #include "physics/Pickup.h"
 #include "physics/Polarisations.h"
@@ -77,6 +78,15 @@ struct Simulation
     }
 };
 
+// The instrument's body under the bridge (ModalBody.h): a factory body or listed modes, and the
+// obstacles that stand on it. The reference only.
+struct SceneBody
+{
+    ModalBody body;
+    std::vector<int> obstacles;  // indices into Scene::obstacles
+    double coupling = 1.0;       // scales the body's coupling rows; 0: the body never moves
+};
+
 struct Scene
 {
     StringParameters string;
@@ -87,6 +97,7 @@ struct Scene
     // The string's second transverse polarisation (Polarisations.h), or one polarisation. Its
     // excitationAngle is the excitation's angle.
     std::optional<SecondPolarisation> secondPolarisation;
+    std::optional<SceneBody> body;
 };
 
 inline constexpr double kMaxDurationSeconds = 3600.0;

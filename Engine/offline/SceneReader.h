@@ -166,4 +166,10 @@ void requireOnString(const std::string& path, double x, double L);
 // The obstacles array, threads laid across the bridges before them (SceneObstacles.cpp).
 void readObstacles(const json& obs, Scene& scene);
 
+// The body object (SceneBody.cpp): a factory body by name or listed modes; the obstacles on it.
+SceneBody readBody(const json& value, const Scene& scene);
+// The body's rules after overrides: its obstacles exist, the reference renders it, "pressure" needs
+// it; the reference reads "bridge_force".
+void validateSceneBody(const Scene& scene);
+
 }  // namespace jawari::scene_reading

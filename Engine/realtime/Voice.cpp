@@ -41,6 +41,8 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
 {
     const auto& s = config.string;
     const int M = config.modes;
+    if (config.quantity == PickupQuantity::pressure || config.quantity == PickupQuantity::bridgeForce)
+        throw std::invalid_argument("the voice reads no body's pressure or bridge force (the reference does)");
     ModalSolverConfig c = stringSolverConfig(s, config.obstacles, M, config.oversampling * config.hostRateHz,
                                              config.pickupPosition, config.quantity);
     if (config.reach)

@@ -1,0 +1,114 @@
+// The scene's "body" object (docs/scenes.md): a factory body by name, or its modes listed; the
+// obstacles that stand on it; its coupling.
+#include "offline/SceneReader.h"
+
+#include "physics/FactoryBodies.h"
+
+#include <stdexcept>
+
+namespace jawari::scene_reading
+{
+namespace
+{
+BodyMode readBodyMode(const json& value, const std::string& path)
+{
+    ObjectReader r(value, path);
+    BodyMode m;
+    for (const char* key : {"frequency", "mass"})
+        if (!r.has(key))
+            throw SceneError(r.at(key), "is required");
+    m.frequencyHz = r.positive("frequency", 0.0);
+    m.sigma = r.nonNegative("damping", 0.0);
+    m.massKg = r.positive("mass", 0.0);
+    m.radiation = r.number("radiation", 0.0);
+    r.rejectUnknown();
+    return m;
+}
+
+std::vector<BodyMode> readBodyModes(const json& modes, const std::string& path)
+{
+    if (!modes.is_array() || modes.empty())
+        throw SceneError(path, "must be a non-empty array of modes, got " + typeName(modes));
+    std::vector<BodyMode> out;
+    for (size_t k = 0; k < modes.size(); ++k)
+        out.push_back(readBodyMode(modes[k], path + "[" + std::to_string(k) + "]"));
+    return out;
+}
+
+std::vector<int> readBodyObstacles(ObjectReader& r, const Scene& scene)
+{
+    std::vector<int> indices;
+    if (!r.has("obstacles"))
+    {
+        for (size_t i = 0; i < scene.obstacles.size(); ++i)
+            indices.push_back(int(i));
+        return indices;
+    }
+    const auto numbers = r.numbers("obstacles");
+    for (size_t i = 0; i < numbers.size(); ++i)
+    {
+        const double v = numbers[i];
+        if (v != std::floor(v) || v < 0.0)
+            throw SceneError(r.at("obstacles") + "[" + std::to_string(i) + "]",
+                             "must be an obstacle's index (a whole number >= 0), got " + show(v));
+        indices.push_back(int(v));
+    }
+    return indices;
+}
+}  // namespace
+
+SceneBody readBody(const json& value, const Scene& scene)
+{
+    ObjectReader r(value, "body");
+    SceneBody body;
+    const bool named = r.has("model"), listed = r.has("modes");
+    if (named == listed)
+        throw SceneError("body", "needs either \"model\" (a factory body) or \"modes\" (its modes listed), not both");
+    if (named)
+    {
+        std::vector<const char*> names = factoryBodyNames();
+        body.body = *factoryBody(r.string("model", "", names));
+    }
+    else
+        body.body.modes = readBodyModes(r.raw("modes"), r.at("modes"));
+    // Every mode's damping scaled (0: a lossless body, for the energy balance).
+    const double dampingScale = r.nonNegative("damping_scale", 1.0);
+    for (auto& mode : body.body.modes)
+        mode.sigma *= dampingScale;
+    body.obstacles = readBodyObstacles(r, scene);
+    body.coupling = r.nonNegative("coupling", body.coupling);
+    r.rejectUnknown();
+    return body;
+}
+
+void validateSceneBody(const Scene& scene)
+{
+    if (scene.pickup.quantity == PickupQuantity::bridgeForce && !scene.simulation.reference)
+        throw SceneError("pickup.quantity", "\"bridge_force\" is read by the reference only (\"method\": \"reference\")");
+    if (!scene.body)
+    {
+        if (scene.pickup.quantity == PickupQuantity::pressure)
+            throw SceneError("pickup.quantity", "\"pressure\" is the body's radiated sound: the scene has no \"body\"");
+        return;
+    }
+    const auto& body = *scene.body;
+    if (!scene.simulation.reference)
+        throw SceneError("body", "is rendered by the reference only (\"method\": \"reference\")");
+    for (size_t i = 0; i < body.obstacles.size(); ++i)
+        if (body.obstacles[i] < 0 || size_t(body.obstacles[i]) >= scene.obstacles.size())
+            throw SceneError("body.obstacles[" + std::to_string(i) + "]",
+                             "no obstacle " + std::to_string(body.obstacles[i]) + " (the scene has "
+                                 + std::to_string(scene.obstacles.size()) + ")");
+    try
+    {
+        validateBody(body.body);
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw SceneError("body.modes", e.what());
+    }
+    if (!(std::isfinite(body.coupling) && body.coupling >= 0.0))
+        throw SceneError("body.coupling", "must be finite and >= 0 (got " + show(body.coupling) + ")");
+}
+
+}  // namespace jawari::scene_reading

@@ -1,0 +1,182 @@
+#include "physics/FactoryBodies.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace jawari
+{
+namespace
+{
+constexpr double kAirDensity = 1.2;  // kg/m^3
+
+double fractionalPart(double x)
+{
+    return x - std::floor(x);
+}
+
+// The R2 low-discrepancy sequence's point k (Roberts 2018): (a_k, b_k) spread evenly over the unit
+// square, so s_k below averages 1 without clustering.
+double squaredShapeAtBridge(int k)
+{
+    const double g1 = 0.7548776662466927, g2 = 0.5698402909980532;  // 1/phi2, 1/phi2^2 (plastic number)
+    const double a = fractionalPart(0.5 + (k + 1) * g1), b = fractionalPart(0.5 + (k + 1) * g2);
+    const double s = 4.0 * std::pow(std::sin(std::numbers::pi * a) * std::sin(std::numbers::pi * b), 2.0);
+    return std::max(s, 0.05);  // a mode with a node at the bridge barely couples: its mass at most 20 M
+}
+
+double bendingStiffness(const PlateBodyRecipe& r)
+{
+    return r.youngPa * r.thicknessM * r.thicknessM * r.thicknessM / (12.0 * (1.0 - r.poisson * r.poisson));
+}
+
+std::vector<double> modeFrequencies(const PlateBodyRecipe& r)
+{
+    const double surfaceDensity = r.densityKgM3 * r.thicknessM;
+    const double spacing = 2.0 / (r.areaM2 * std::sqrt(surfaceDensity / bendingStiffness(r)));
+    std::vector<double> f;
+    for (int k = 0;; ++k)
+    {
+        // Each mode moved within +-0.4 of the spacing by the golden ratio's sequence; the first stays.
+        const double jitter = k == 0 ? 0.0 : 0.8 * (fractionalPart(k * std::numbers::phi) - 0.5);
+        const double fk = r.lowestHz + (k + jitter) * spacing;
+        if (fk > r.highestHz)
+            break;
+        f.push_back(fk);
+    }
+    for (const auto& band : r.bands)
+        if (std::none_of(f.begin(), f.end(), [&](double x) { return x >= band.lowHz && x < band.highHz; }))
+            f.push_back(std::sqrt(band.lowHz * band.highHz));
+    std::sort(f.begin(), f.end());
+    return f;
+}
+
+// The band that holds f, or the nearest one.
+size_t bandOf(const std::vector<BandLevel>& bands, double f)
+{
+    for (size_t b = 0; b < bands.size(); ++b)
+        if (f < bands[b].highHz)
+            return b;
+    return bands.size() - 1;
+}
+
+// Mean |P(f)|^2 over [low, high]: the trapezoid rule on a grid whose step is a fraction of the
+// narrowest peak's half-power width there (f eta).
+double meanPressurePower(const ModalBody& body, double low, double high, double lossFactor)
+{
+    const double ratio = 1.0 + lossFactor / 8.0;
+    double sum = 0.0, f = low;
+    auto power = [&](double x) {
+        const auto r = bodyResponse(body, x);
+        return r.pressureReal * r.pressureReal + r.pressureImag * r.pressureImag;
+    };
+    double previous = power(f);
+    while (f < high)
+    {
+        const double next = std::min(high, f * ratio);
+        const double value = power(next);
+        sum += 0.5 * (previous + value) * (next - f);
+        previous = value;
+        f = next;
+    }
+    return sum / (high - low);
+}
+
+double smallestLossFactor(const ModalBody& body)
+{
+    double eta = 1.0;
+    for (const auto& m : body.modes)
+        eta = std::min(eta, m.sigma / (std::numbers::pi * m.frequencyHz));
+    return std::max(eta, 1e-4);
+}
+}  // namespace
+
+std::vector<double> bodyBandLevels(const ModalBody& body, const std::vector<BandLevel>& bands, int referenceBand)
+{
+    const double eta = smallestLossFactor(body);
+    std::vector<double> levels;
+    for (const auto& band : bands)
+        levels.push_back(10.0 * std::log10(meanPressurePower(body, band.lowHz, band.highHz, eta)));
+    const double reference = levels[size_t(referenceBand)];
+    for (double& l : levels)
+        l -= reference;
+    return levels;
+}
+
+ModalBody plateBody(const PlateBodyRecipe& r)
+{
+    const double surfaceDensity = r.densityKgM3 * r.thicknessM;
+    const double plateMass = surfaceDensity * r.areaM2;
+    ModalBody body;
+    body.name = r.name;
+    const auto frequencies = modeFrequencies(r);
+    for (size_t k = 0; k < frequencies.size(); ++k)
+    {
+        const double s = squaredShapeAtBridge(int(k));
+        const double sign = fractionalPart(double(k + 1) * std::numbers::sqrt2) < 0.5 ? 1.0 : -1.0;
+        const double f = frequencies[k];
+        body.modes.push_back({f, std::numbers::pi * f * r.lossFactor, plateMass / s, sign / std::sqrt(s)});
+    }
+    // The reference band's level: the infinite plate's |p / F| below coincidence.
+    const double referencePower =
+        std::pow(kAirDensity / (2.0 * std::numbers::sqrt2 * std::numbers::pi * r.listenerMetres * surfaceDensity), 2.0);
+    // Each band's modes scaled by what the band lacks; the bands' tails reach their neighbours, so a
+    // few passes.
+    for (int pass = 0; pass < 8; ++pass)
+    {
+        std::vector<double> gain;
+        for (const auto& band : r.bands)
+        {
+            const double want = referencePower * std::pow(10.0, band.levelDb / 10.0);
+            gain.push_back(std::sqrt(want / meanPressurePower(body, band.lowHz, band.highHz, r.lossFactor)));
+        }
+        for (auto& mode : body.modes)
+            mode.radiation *= gain[bandOf(r.bands, mode.frequencyHz)];
+    }
+    return body;
+}
+
+const PlateBodyRecipe& tanpuraBodyRecipe()
+{
+    static const PlateBodyRecipe recipe = [] {
+        PlateBodyRecipe r;
+        r.name = "tanpura";
+        // A male tanpura's tabli: a toon (Toona ciliata) plate about 0.40 m across (T. Levy's maker's
+        // table: 37-45 cm), 4 mm thick (assumed); toon at 513 kg/m^3 and 9.0 GPa along the grain
+        // (Smithsonian MCI), across the grain 0.075 of that (assumed), so an isotropic plate of their
+        // geometric mean; a loss factor of 0.02 (piano soundboards, Ege & Boutillon; the measured
+        // response's decay, T60 about 0.11 s near 1 kHz). The first mode near 100 Hz.
+        r.areaM2 = std::numbers::pi * 0.2 * 0.2;
+        r.thicknessM = 4e-3;
+        r.densityKgM3 = 513.0;
+        r.youngPa = 9.0e9 * std::sqrt(0.075);
+        r.poisson = 0.3;
+        r.lossFactor = 0.02;
+        r.lowestHz = 100.0;
+        r.highestHz = 13000.0;
+        r.listenerMetres = 0.8;
+        // DAFx-16's Fig. 5, their impulse response from the bridge to a microphone at 80 cm, in
+        // bands relative to 1.25-2 kHz (docs/design.md section 1, "The body").
+        const double edges[] = {50, 80, 125, 200, 315, 500, 800, 1250, 2000, 3150, 5000, 8000, 12500};
+        const double levels[] = {-30.5, -33, -33, -29, -16.5, -1.3, -5.5, 0, -2.2, -6.8, -7.5, -12};
+        for (size_t b = 0; b < std::size(levels); ++b)
+            r.bands.push_back({edges[b], edges[b + 1], levels[b]});
+        r.referenceBand = 7;
+        return r;
+    }();
+    return recipe;
+}
+
+std::optional<ModalBody> factoryBody(const std::string& name)
+{
+    if (name == "tanpura")
+        return plateBody(tanpuraBodyRecipe());
+    return std::nullopt;
+}
+
+std::vector<const char*> factoryBodyNames()
+{
+    return {"tanpura"};
+}
+
+}  // namespace jawari

@@ -1,0 +1,125 @@
+#include "physics/ModalBody.h"
+
+#include "physics/StringModel.h"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+namespace jawari
+{
+
+void validateBody(const ModalBody& body)
+{
+    for (size_t k = 0; k < body.modes.size(); ++k)
+    {
+        const auto& m = body.modes[k];
+        const std::string which = "mode " + std::to_string(k) + ": ";
+        if (!(std::isfinite(m.frequencyHz) && m.frequencyHz > 0.0))
+            throw std::invalid_argument(which + "its frequency must be finite and > 0 Hz");
+        if (!(std::isfinite(m.sigma) && m.sigma >= 0.0))
+            throw std::invalid_argument(which + "its damping must be finite and >= 0 /s");
+        if (!(std::isfinite(m.massKg) && m.massKg > 0.0))
+            throw std::invalid_argument(which + "its mass must be finite and > 0 kg");
+        if (!std::isfinite(m.radiation))
+            throw std::invalid_argument(which + "its radiation weight must be finite");
+    }
+}
+
+namespace
+{
+// The strings' contact rows over their M modes: their own rows, or the sine modes' phi_p(x_j).
+std::vector<double> stringRows(const ModalSolverConfig& c)
+{
+    if (!c.contactShapes.empty())
+        return c.contactShapes;
+    const int M = c.modes.size();
+    std::vector<double> rows;
+    rows.reserve(c.contacts.size() * size_t(M));
+    for (const auto& point : c.contacts)
+        for (int p = 1; p <= M; ++p)
+            rows.push_back(modeShape(c.lengthMetres, p, point.position));
+    return rows;
+}
+
+// v over M modes, padded with K zeros (left empty when empty).
+std::vector<double> padded(const std::vector<double>& v, int K)
+{
+    std::vector<double> out = v;
+    if (!out.empty())
+        out.resize(out.size() + size_t(K), 0.0);
+    return out;
+}
+}  // namespace
+
+ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& join)
+{
+    if (!join.body)
+        throw std::invalid_argument("withBody needs a body");
+    const ModalBody& body = *join.body;
+    validateBody(body);
+    if (strings.transform)
+        throw std::invalid_argument("a body couples the contact points: it takes the projection path");
+    if (join.pointOnBody.size() != strings.contacts.size())
+        throw std::invalid_argument("withBody: one on-the-body flag per contact point");
+    if (!(std::isfinite(join.coupling) && join.coupling >= 0.0))
+        throw std::invalid_argument("the body's coupling must be finite and >= 0");
+    const int M = strings.modes.size(), K = int(body.modes.size());
+    const double mu = strings.linearDensity;
+    ModalSolverConfig c = strings;
+    for (const auto& mode : body.modes)
+    {
+        c.modes.frequencyHz.push_back(mode.frequencyHz);
+        c.modes.omega.push_back(2.0 * std::numbers::pi * mode.frequencyHz);
+        c.modes.sigma.push_back(mode.sigma);
+    }
+    const auto rows = stringRows(strings);
+    c.contactShapes.clear();
+    c.contactShapes.reserve(strings.contacts.size() * size_t(M + K));
+    for (size_t j = 0; j < strings.contacts.size(); ++j)
+    {
+        c.contactShapes.insert(c.contactShapes.end(), rows.begin() + long(j * M), rows.begin() + long((j + 1) * M));
+        for (const auto& mode : body.modes)
+            c.contactShapes.push_back(join.pointOnBody[j] ? -join.coupling * std::sqrt(mu / mode.massKg) : 0.0);
+    }
+    c.pickupWeights = padded(strings.pickupWeights, K);
+    c.secondPickupWeights = padded(strings.secondPickupWeights, K);
+    if (strings.excitationPosition && strings.excitationShape.empty())
+    {
+        for (int p = 1; p <= M; ++p)
+            c.excitationShape.push_back(modeShape(strings.lengthMetres, p, *strings.excitationPosition));
+    }
+    c.excitationShape = padded(c.excitationShape, K);
+    // A pluck's map B, (M + K) x m: the strings' rows, then the body's, at rest. Empty stays empty
+    // (the sine modes: the caller plucks the first M modes).
+    if (!strings.shapeToModes.empty())
+        c.shapeToModes.resize(strings.shapeToModes.size() / size_t(M) * size_t(M + K), 0.0);
+    return c;
+}
+
+std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity)
+{
+    std::vector<double> h(size_t(stringModes), 0.0);
+    for (const auto& mode : body.modes)
+        h.push_back(mode.radiation * std::sqrt(linearDensity / mode.massKg));
+    return h;
+}
+
+BodyResponse bodyResponse(const ModalBody& body, double frequencyHz)
+{
+    const double w = 2.0 * std::numbers::pi * frequencyHz;
+    std::complex<double> Y = 0.0, P = 0.0;
+    for (const auto& mode : body.modes)
+    {
+        const double wk = 2.0 * std::numbers::pi * mode.frequencyHz;
+        // z / F = 1 / (m_k (wk^2 - w^2 + 2 i sigma_k w))
+        const std::complex<double> receptance =
+            1.0 / (mode.massKg * std::complex<double>(wk * wk - w * w, 2.0 * mode.sigma * w));
+        Y += std::complex<double>(0.0, w) * receptance;
+        P += mode.radiation * (-w * w) * receptance;
+    }
+    return {Y.real(), Y.imag(), P.real(), P.imag()};
+}
+
+}  // namespace jawari

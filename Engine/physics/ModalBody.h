@@ -1,0 +1,72 @@
+#pragma once
+// The instrument's body under the bridge as a set of modes (docs/design.md section 1, "The body"),
+// and how it joins the strings' solver.
+//
+// Mode k moves the bridge by z_k (m): the bridge's displacement is w = sum_k z_k, and a force F on
+// the bridge drives each mode as m_k (z_k'' + 2 sigma_k z_k' + omega_k^2 z_k) = F, m_k its mass at
+// the bridge (kg). So the bridge's mobility is Y(w) = sum_k i w / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)).
+// The sound radiated to the listener is p = sum_k c_k z_k'' (Pa): c_k the mode's radiation weight.
+//
+// In the solver the body's modes are more modes beside the strings', scaled to the strings' mass per
+// metre mu: zeta_k = sqrt(m_k / mu) z_k, so that (mu/2) zeta_k'^2 is the mode's kinetic energy. An
+// obstacle that stands on the body moves with the bridge, so its contact points see the string's
+// displacement less the bridge's: their rows gain -sqrt(mu / m_k) on mode k, and the contact force
+// that pushes the string up pushes the body down by the same amount. The energy-conserving contact
+// solve then conserves the discrete energy of strings, body and contact together, whatever the
+// coupling. Everything here is OFF.
+
+#include "physics/ModalSolver.h"
+
+#include <string>
+#include <vector>
+
+namespace jawari
+{
+
+struct BodyMode
+{
+    double frequencyHz = 0.0;
+    double sigma = 0.0;      // 1/s
+    double massKg = 0.0;     // m_k at the bridge
+    double radiation = 0.0;  // c_k, Pa per m/s^2 of the mode's bridge acceleration
+};
+
+struct ModalBody
+{
+    std::string name;  // a factory body's name, or empty
+    std::vector<BodyMode> modes;
+};
+
+// What the body adds to a solver: its modes after the strings', and which contact points stand on it.
+struct BodyJoin
+{
+    const ModalBody* body = nullptr;
+    std::vector<char> pointOnBody;  // per contact point of the strings' configuration
+    // Scales every mode's coupling row (0: the body is there but nothing reaches it; 1: as measured).
+    double coupling = 1.0;
+};
+
+// The strings' configuration (M modes, on the projection path: sine modes or their own contact rows)
+// with the body's K modes appended (M + K modes): the contact rows of the points on the body take
+// -coupling sqrt(mu/m_k) on mode k, the pickups and excitation read and push the strings only, the
+// pluck's map leaves the body at rest. The transform path is refused (the body couples the points).
+ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& join);
+
+// The pickup weights (M + K values) that read sum_k c_k z_k: the radiated pressure is their second
+// time derivative (the renderer's "pressure" quantity: the second difference over a step).
+std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity);
+
+// The bridge's mobility Y(f) and the radiated pressure per newton on the bridge, P(f) = sum_k c_k
+// (-w^2) / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)), at frequency f (Hz): the body's own responses.
+struct BodyResponse
+{
+    double mobilityReal = 0.0, mobilityImag = 0.0;  // s/kg
+    double pressureReal = 0.0, pressureImag = 0.0;  // Pa/N
+};
+BodyResponse bodyResponse(const ModalBody& body, double frequencyHz);
+
+// Checks a body's modes (finite, frequency > 0, sigma >= 0, mass > 0); throws std::invalid_argument
+// naming the mode and the value.
+void validateBody(const ModalBody& body);
+
+}  // namespace jawari

@@ -1,0 +1,252 @@
+// The modal body under the bridge (ModalBody.h, FactoryBodies.h): its measured response, the energy
+// of strings and body together, and the tanpura heard through it (DAFx-16).
+
+#include "TestSupport.h"
+
+#include "offline/OfflineRender.h"
+#include "offline/Scene.h"
+#include "physics/FactoryBodies.h"
+#include "physics/ModalBody.h"
+#include "physics/StringDiscretisation.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+using namespace jawari;
+
+namespace
+{
+// The solver's response from a unit impulse of force on the bridge to the radiated pressure: the
+// body's modes beside one string mode nothing touches, pushed at the bridge for one step.
+std::vector<double> bridgeImpulseResponse(const ModalBody& body, double rateHz, double seconds)
+{
+    ModalSolverConfig strings;
+    strings.lengthMetres = 1.0;
+    strings.linearDensity = 1e-3;
+    strings.timeStep = 1.0 / rateHz;
+    strings.modes = buildModalTable(test::paperString(), 1);
+    strings.excitationPosition = 0.5;
+    auto c = withBody(strings, {&body, {}, 1.0});
+    c.excitationShape[0] = 0.0;
+    for (size_t k = 0; k < body.modes.size(); ++k)  // F on the bridge: m_k z_k'' = F
+        c.excitationShape[1 + k] = std::sqrt(strings.linearDensity / body.modes[k].massKg);
+    c.pickupWeights = radiationWeights(body, 1, strings.linearDensity);
+    ModalSolver solver(c);
+    const double dt = strings.timeStep;
+    std::vector<double> y{solver.pickup()};
+    solver.setExternalForce(1.0 / dt);
+    for (long n = 0; n < std::lround(seconds * rateHz); ++n)
+    {
+        solver.step();
+        solver.setExternalForce(0.0);
+        y.push_back(solver.pickup());
+    }
+    // p^n = (y^{n+1} - 2 y^n + y^{n-1}) / dt^2, the body at rest before the push (y^{-1} = y^0): p^0
+    // carries the push's own jump in velocity.
+    std::vector<double> p(y.size() - 1);
+    for (size_t n = 0; n < p.size(); ++n)
+        p[n] = (y[n + 1] - 2.0 * y[n] + y[n == 0 ? 0 : n - 1]) / (dt * dt);
+    return p;
+}
+
+// Mean |P(f)|^2 over each band of the impulse response p (sampled at rateHz), from its discrete-time
+// Fourier transform on a grid 1/16 of the narrowest peak's width apart, relative to band `reference` (dB).
+std::vector<double> measuredBandLevels(const std::vector<double>& p, double rateHz, const std::vector<BandLevel>& bands,
+                                       int reference, double lossFactor)
+{
+    std::vector<double> levels;
+    for (const auto& band : bands)
+    {
+        // The mean over f of |P|^2 on a logarithmic grid: the sum of |P(f)|^2 f dln(f) over the width.
+        const double ratio = 1.0 + lossFactor / 16.0;
+        double sum = 0.0;
+        for (double f = band.lowHz; f < band.highHz; f *= ratio)
+        {
+            const std::complex<double> turn = std::polar(1.0, -2.0 * std::numbers::pi * f / rateHz);
+            std::complex<double> sumP = 0.0, z = 1.0;
+            for (double v : p)
+            {
+                sumP += v * z;
+                z *= turn;
+            }
+            sum += std::norm(sumP / rateHz) * f * std::log(ratio);
+        }
+        levels.push_back(10.0 * std::log10(sum / (band.highHz - band.lowHz)));
+    }
+    const double ref = levels[size_t(reference)];
+    for (double& l : levels)
+        l -= ref;
+    return levels;
+}
+
+Scene withTanpuraBody(Scene scene, PickupQuantity quantity)
+{
+    scene.body = SceneBody{*factoryBody("tanpura"), {}, 1.0};
+    for (size_t i = 0; i < scene.obstacles.size(); ++i)
+        scene.body->obstacles.push_back(int(i));
+    scene.pickup.quantity = quantity;
+    return scene;
+}
+
+// RMS of 20 ms frames; the frame of the largest, as its centre's time (s).
+double envelopePeakSeconds(const std::vector<double>& y, double rateHz)
+{
+    const size_t frame = size_t(0.02 * rateHz);
+    double best = -1.0, at = 0.0;
+    for (size_t i = 0; i + frame <= y.size(); i += frame)
+    {
+        double e = 0.0;
+        for (size_t n = i; n < i + frame; ++n)
+            e += y[n] * y[n];
+        if (e > best)
+        {
+            best = e;
+            at = (double(i) + 0.5 * double(frame)) / rateHz;
+        }
+    }
+    return at;
+}
+}  // namespace
+
+TEST_CASE("The tanpura body's response from the bridge to the radiated sound follows DAFx-16's measured band "
+          "levels within 6 dB, measured through the solver",
+          "[body]")
+{
+    const auto& recipe = tanpuraBodyRecipe();
+    const auto body = *factoryBody("tanpura");
+    const double rate = 96000.0;
+    const auto p = bridgeImpulseResponse(body, rate, 2.0);
+    const auto levels = measuredBandLevels(p, rate, recipe.bands, recipe.referenceBand, recipe.lossFactor);
+    for (size_t b = 0; b < levels.size(); ++b)
+    {
+        const auto& band = recipe.bands[b];
+        INFO(band.lowHz << "-" << band.highHz << " Hz: " << levels[b] << " dB, measured " << band.levelDb << " dB");
+        if (band.lowHz >= 80.0)
+            CHECK(std::abs(levels[b] - band.levelDb) < 6.0);
+    }
+}
+
+TEST_CASE("The tanpura body's mean mobility at the bridge is the infinite plate's, 1/(8 sqrt(D rho h))", "[body]")
+{
+    const auto& r = tanpuraBodyRecipe();
+    const auto body = *factoryBody("tanpura");
+    const double D = r.youngPa * std::pow(r.thicknessM, 3.0) / (12.0 * (1.0 - r.poisson * r.poisson));
+    const double plate = 1.0 / (8.0 * std::sqrt(D * r.densityKgM3 * r.thicknessM));
+    double sum = 0.0;
+    int count = 0;
+    for (double f = 1000.0; f < 10000.0; f += 0.5, ++count)
+        sum += bodyResponse(body, f).mobilityReal;
+    const double mean = sum / count;
+    INFO("mean Re Y over 1-10 kHz " << mean << " s/kg, infinite plate " << plate << " s/kg");
+    CHECK(mean > 0.7 * plate);
+    CHECK(mean < 1.4 * plate);
+}
+
+TEST_CASE("Strings and a lossless body conserve their discrete energy to 1e-9 over 1e5 steps; with losses it "
+          "never rises",
+          "[body][energy]")
+{
+    for (const char* name : {"tanpura-sa.json", "tanpura-thread.json", "sitar-bridge.json"})
+    {
+        for (const bool lossless : {true, false})
+        {
+            Scene scene = withTanpuraBody(test::atPaperConfiguration(loadSceneFile(test::resource("Scenes/" + std::string(name)))),
+                                          PickupQuantity::displacement);
+            if (lossless)
+            {
+                scene.string.damping.law = DampingLaw::none;
+                for (auto& mode : scene.body->body.modes)
+                    mode.sigma = 0.0;
+            }
+            scene.simulation.durationSeconds = 0.05;  // 1e5 steps at 2 MHz
+            RenderOptions options;
+            options.logEnergy = true;
+            const auto result = renderScene(scene, options);
+            const double H0 = result.stats.initialEnergy;
+            double drift = 0.0, rise = 0.0;
+            for (size_t i = 0; i < result.energy.size(); ++i)
+            {
+                drift = std::max(drift, std::abs(result.energy[i].energy / H0 - 1.0));
+                if (i > 0)
+                    rise = std::max(rise, (result.energy[i].energy - result.energy[i - 1].energy) / H0);
+            }
+            INFO(name << (lossless ? " lossless" : " lossy") << ": drift " << drift << ", largest rise " << rise
+                      << ", final " << result.energy.back().energy / H0);
+            if (lossless)
+                CHECK(drift < 1e-9);
+            else
+            {
+                CHECK(rise < 1e-12);
+                CHECK(result.energy.back().energy < 0.999 * H0);
+            }
+        }
+    }
+}
+
+TEST_CASE("A body whose coupling is zero changes nothing: the string's output bit for bit", "[body]")
+{
+    const Scene plain = loadSceneFile(test::resource("Scenes/tanpura-sa.json"));
+    Scene uncoupled = withTanpuraBody(plain, PickupQuantity::displacement);
+    uncoupled.body->coupling = 0.0;
+    const long long steps = 40000;
+    RenderOptions projection;
+    projection.path = ContactPath::projection;
+    const auto a = renderInternal(plain, steps, projection);
+    const auto b = renderInternal(uncoupled, steps, projection);
+    REQUIRE(a.size() == b.size());
+    size_t differing = 0;
+    for (size_t n = 0; n < a.size(); ++n)
+        differing += a[n] != b[n];
+    CHECK(differing == 0);
+}
+
+TEST_CASE("Through the tanpura body DAFx-16's C3 string sounds louder over its first half second while its "
+          "force on the bridge falls from the pluck (their Fig. 8)",
+          "[body]")
+{
+    Scene scene = loadSceneFile(test::resource("Scenes/dafx16-c3-body.json"));
+    REQUIRE(scene.pickup.quantity == PickupQuantity::pressure);
+    const auto pressure = renderScene(scene);
+    scene.pickup.quantity = PickupQuantity::bridgeForce;
+    const auto force = renderScene(scene);
+    const double rate = pressure.outputRateHz;
+    const double radiatedPeak = envelopePeakSeconds(pressure.output, rate);
+    const double forcePeak = envelopePeakSeconds(force.output, rate);
+    INFO("radiated envelope peaks at " << radiatedPeak << " s, the bridge force's at " << forcePeak << " s");
+    CHECK(radiatedPeak > 0.15);
+    CHECK(forcePeak < 0.1);
+}
+
+TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]")
+{
+    const std::string head = R"({"format": "jawari-scene/1",
+        "obstacles": [{"type": "point", "position": 0.006, "stiffness": 1e13, "exponent": 1.3}],)";
+    const auto scene = parseScene(head + R"("body": {"model": "tanpura", "damping_scale": 0.5},
+        "pickup": {"quantity": "pressure"}})");
+    REQUIRE(scene.body);
+    CHECK(scene.body->obstacles == std::vector<int>{0});
+    CHECK(scene.body->body.modes.size() == factoryBody("tanpura")->modes.size());
+    CHECK(scene.body->body.modes[3].sigma == Approx(0.5 * factoryBody("tanpura")->modes[3].sigma));
+    const auto listed = parseScene(head + R"("body": {"modes": [{"frequency": 200, "damping": 3, "mass": 0.2,
+        "radiation": 0.01}], "obstacles": [], "coupling": 0.5}})");
+    CHECK(listed.body->body.modes.size() == 1);
+    CHECK(listed.body->obstacles.empty());
+    CHECK(listed.body->coupling == 0.5);
+
+    auto refused = [&](const std::string& tail, const std::string& message) {
+        INFO(tail);
+        CHECK_THROWS_WITH(parseScene(head + tail), Catch::Contains(message));
+    };
+    refused(R"("pickup": {"quantity": "pressure"}})", "pickup.quantity: \"pressure\" is the body's radiated sound");
+    refused(R"("body": {"model": "guitar"}})", "body.model: unknown value 'guitar'");
+    refused(R"("body": {}})", "body: needs either \"model\"");
+    refused(R"("body": {"model": "tanpura", "obstacles": [1]}})", "body.obstacles[0]: no obstacle 1");
+    refused(R"("body": {"model": "tanpura", "obstacles": [0.5]}})", "body.obstacles[0]: must be an obstacle's index");
+    refused(R"("body": {"modes": [{"frequency": 200, "mass": -1}]}})", "body.modes[0].mass: must be > 0");
+    refused(R"("body": {"modes": [{"frequency": 200}]}})", "body.modes[0].mass: is required");
+    refused(R"("body": {"model": "tanpura"}, "simulation": {"method": "realtime"}})",
+            "body: is rendered by the reference only");
+}
