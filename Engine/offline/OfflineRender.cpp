@@ -21,13 +21,37 @@ namespace jawari
 namespace
 {
 
+// What the "bridge_force" quantity reads: the points on the body (every obstacle's without one).
+struct BridgeReading
+{
+    std::vector<int> points;
+
+    double force(const ModalSolver& solver) const  // N on the bridge, the step's
+    {
+        double sum = 0.0;
+        for (const int j : points)
+            sum -= solver.contactForce(j);
+        return sum;
+    }
+};
+
 struct SolverSetup
 {
     ModalSolverConfig config;
     std::vector<double> initial;
     double rateHz = 0.0;
-    std::vector<int> bridgePoints;  // the contact points whose force the "bridge_force" quantity sums
+    BridgeReading bridge;
 };
+
+// One flag per obstacle: whether it stands on the body (every obstacle without a body).
+std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body)
+{
+    std::vector<char> on(obstacleCount, body ? 0 : 1);
+    if (body)
+        for (const int i : body->obstacles)
+            on[size_t(i)] = 1;
+    return on;
+}
 
 // Which of the configuration's contact points stand on the body (every obstacle's without a body):
 // those of the body's obstacles (each obstacle's points follow the previous one's, contactPointsOnGrid's
@@ -35,13 +59,7 @@ struct SolverSetup
 std::vector<char> pointsOnBody(const std::vector<Obstacle>& obstacles, const std::optional<SceneBody>& body, double L,
                                int gridIntervals, size_t pointCount)
 {
-    std::vector<char> on;
-    for (size_t i = 0; i < obstacles.size(); ++i)
-    {
-        const bool standing =
-            !body || std::find(body->obstacles.begin(), body->obstacles.end(), int(i)) != body->obstacles.end();
-        on.resize(on.size() + contactPointsOnGrid({obstacles[i]}, L, gridIntervals).size(), standing ? 1 : 0);
-    }
+    auto on = contactPointsOnBody(obstacles, obstaclesOnBody(obstacles.size(), body), L, gridIntervals);
     on.resize(pointCount, 0);
     return on;
 }
@@ -95,7 +113,7 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
     const auto onBody = pointsOnBody(obstacles, scene.body, scene.string.lengthMetres, grid, s.config.contacts.size());
     for (size_t j = 0; j < onBody.size(); ++j)
         if (onBody[j])
-            s.bridgePoints.push_back(int(j));
+            s.bridge.points.push_back(int(j));
     if (scene.body)
     {
         if (path == ContactPath::transform)
@@ -107,11 +125,11 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
 
 // Steps the solver, handing each internal sample of the pickup quantity to `sink`, and each
 // step's solver to `afterStep` (energy log). Velocity is the centred difference (u^{n+1} - u^{n-1})/2dt,
-// pressure the second difference of the body's radiation reading, the bridge force the step's contact forces
-// at the bridge's points, negated.
+// and pressure the same of the body's radiation reading; the bridge force is the step's contact
+// forces at the bridge's points, negated.
 // A force pluck pushes at each step's start.
 template <typename Sink, typename AfterStep>
-void run(ModalSolver& solver, const Scene& scene, const std::vector<int>& bridgePoints, long long steps,
+void run(ModalSolver& solver, const Scene& scene, const BridgeReading& bridge, long long steps,
          RenderStats& stats, const RenderOptions& options, Sink&& sink, AfterStep&& afterStep)
 {
     const PickupQuantity quantity = scene.pickup.quantity;
@@ -130,16 +148,10 @@ void run(ModalSolver& solver, const Scene& scene, const std::vector<int>& bridge
         solver.step();
         const double yNext = solver.pickup();
         double sample = y;
-        if (quantity == PickupQuantity::velocity)
+        if (quantity == PickupQuantity::velocity || quantity == PickupQuantity::pressure)
             sample = n == 0 ? 0.0 : (yNext - yPrev) / (2.0 * dt);
-        else if (quantity == PickupQuantity::pressure)  // sum_k c_k z_k'': the body starts at rest
-            sample = n == 0 ? 0.0 : (yNext - 2.0 * y + yPrev) / (dt * dt);
         else if (quantity == PickupQuantity::bridgeForce)  // the step's contact force, centred on t^n
-        {
-            sample = 0.0;
-            for (const int j : bridgePoints)
-                sample -= solver.contactForce(j);
-        }
+            sample = bridge.force(solver);
         sink(sample);
         yPrev = y;
         y = yNext;
@@ -176,9 +188,18 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     VoiceConfig v;
     v.string = scene.string;
     // Only what the string can reach (AutomaticQuality.h, reachAt): an obstacle beyond it never touches.
-    for (const auto& o : scene.obstacles)
-        if (obstacleReachable(scene, o))
-            v.obstacles.push_back(o);
+    const auto onBody = obstaclesOnBody(scene.obstacles.size(), scene.body);
+    for (size_t i = 0; i < scene.obstacles.size(); ++i)
+        if (obstacleReachable(scene, scene.obstacles[i]))
+        {
+            v.obstacles.push_back(scene.obstacles[i]);
+            v.obstacleOnBody.push_back(onBody[i]);
+        }
+    if (scene.body)
+    {
+        v.body = scene.body->body;
+        v.bodyCoupling = scene.body->coupling;
+    }
     v.excitationPosition = scene.excitation.position;
     v.pickupPosition = scene.pickup.position;
     v.quantity = scene.pickup.quantity;
@@ -270,7 +291,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     std::vector<double> out;
     out.reserve(static_cast<size_t>(steps));
     run(
-        solver, scene, setup.bridgePoints, steps, stats, options, [&](double v) { out.push_back(v); },
+        solver, scene, setup.bridge, steps, stats, options, [&](double v) { out.push_back(v); },
         [](long long, int) {});
     if (statsOut)
         *statsOut = stats;
@@ -386,7 +407,7 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
     if (options.logEnergy)
         log.emplace(solver, setup.rateHz, result.outputRateHz, outputCount, result.energy);
     run(
-        solver, scene, setup.bridgePoints, steps, result.stats, options, [&](double v) { output.push(v); },
+        solver, scene, setup.bridge, steps, result.stats, options, [&](double v) { output.push(v); },
         [&](long long n, int iterations) {
             if (log)
                 log->afterStep(n, iterations);

@@ -92,8 +92,6 @@ void validateSceneBody(const Scene& scene)
         return;
     }
     const auto& body = *scene.body;
-    if (!scene.simulation.reference)
-        throw SceneError("body", "is rendered by the reference only (\"method\": \"reference\")");
     for (size_t i = 0; i < body.obstacles.size(); ++i)
         if (body.obstacles[i] < 0 || size_t(body.obstacles[i]) >= scene.obstacles.size())
             throw SceneError("body.obstacles[" + std::to_string(i) + "]",

@@ -168,7 +168,7 @@ void readObstacles(const json& obs, Scene& scene);
 
 // The body object (SceneBody.cpp): a factory body by name or listed modes; the obstacles on it.
 SceneBody readBody(const json& value, const Scene& scene);
-// The body's rules after overrides: its obstacles exist, the reference renders it, "pressure" needs
+// The body's rules after overrides: its obstacles exist and its modes are sound, "pressure" needs
 // it; the reference reads "bridge_force".
 void validateSceneBody(const Scene& scene);
 

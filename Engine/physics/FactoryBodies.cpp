@@ -51,13 +51,22 @@ std::vector<double> modeFrequencies(const PlateBodyRecipe& r)
     return f;
 }
 
-// The band that holds f, or the nearest one.
-size_t bandOf(const std::vector<BandLevel>& bands, double f)
+// The bands' gains interpolated in log frequency between the bands' centres (constant beyond the
+// first and the last): a mode near a band's edge takes some of its neighbour's, so a strong band's
+// modes do not spill into a weak neighbour at full strength.
+double gainAt(const std::vector<BandLevel>& bands, const std::vector<double>& gain, double f)
 {
-    for (size_t b = 0; b < bands.size(); ++b)
-        if (f < bands[b].highHz)
-            return b;
-    return bands.size() - 1;
+    auto centre = [&](size_t b) { return std::log(std::sqrt(bands[b].lowHz * bands[b].highHz)); };
+    const double x = std::log(f);
+    if (x <= centre(0))
+        return gain.front();
+    for (size_t b = 0; b + 1 < bands.size(); ++b)
+        if (x <= centre(b + 1))
+        {
+            const double t = (x - centre(b)) / (centre(b + 1) - centre(b));
+            return std::exp((1.0 - t) * std::log(gain[b]) + t * std::log(gain[b + 1]));
+        }
+    return gain.back();
 }
 
 // Mean |P(f)|^2 over [low, high]: the trapezoid rule on a grid whose step is a fraction of the
@@ -131,7 +140,7 @@ ModalBody plateBody(const PlateBodyRecipe& r)
             gain.push_back(std::sqrt(want / meanPressurePower(body, band.lowHz, band.highHz, r.lossFactor)));
         }
         for (auto& mode : body.modes)
-            mode.radiation *= gain[bandOf(r.bands, mode.frequencyHz)];
+            mode.radiation *= gainAt(r.bands, gain, mode.frequencyHz);
     }
     return body;
 }

@@ -12,8 +12,9 @@
 //    is 1: the plate's mean driving-point mobility is the infinite plate's (Cremer & Heckl);
 //  - the damping: sigma_k = pi f_k eta;
 //  - the radiation: c_k proportional to sqrt(m_k / (rho h S)) (a mode with a small amplitude at the
-//    bridge radiates its volume all the same) with a deterministic sign, scaled per band until the
-//    response from the bridge force to the pressure has the measured band levels, the reference
+//    bridge radiates its volume all the same) with a deterministic sign, scaled by the bands' gains
+//    (interpolated in log frequency between the bands' centres) until the response from the bridge
+//    force to the pressure has the measured band levels, the reference
 //    band at the infinite plate's point-force radiation below coincidence, |p / F| =
 //    rho_air / (2 sqrt(2) pi r rho h) at r metres.
 

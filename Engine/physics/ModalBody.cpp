@@ -92,10 +92,26 @@ ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& joi
     }
     c.excitationShape = padded(c.excitationShape, K);
     // A pluck's map B, (M + K) x m: the strings' rows, then the body's, at rest. Empty stays empty
-    // (the sine modes: the caller plucks the first M modes).
+    // (the sine modes: the caller plucks the first M modes) unless asked for.
     if (!strings.shapeToModes.empty())
         c.shapeToModes.resize(strings.shapeToModes.size() / size_t(M) * size_t(M + K), 0.0);
+    else if (join.mapShapes)
+    {
+        c.shapeToModes.assign(size_t(M + K) * size_t(M), 0.0);
+        for (int p = 0; p < M; ++p)
+            c.shapeToModes[size_t(p) * size_t(M) + size_t(p)] = 1.0;
+    }
     return c;
+}
+
+std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, const std::vector<char>& onBody,
+                                      double lengthMetres, int gridIntervals)
+{
+    std::vector<char> points;
+    for (size_t i = 0; i < obstacles.size(); ++i)
+        points.resize(points.size() + contactPointsOnGrid({obstacles[i]}, lengthMetres, gridIntervals).size(),
+                      onBody[i]);
+    return points;
 }
 
 std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity)
@@ -117,7 +133,7 @@ BodyResponse bodyResponse(const ModalBody& body, double frequencyHz)
         const std::complex<double> receptance =
             1.0 / (mode.massKg * std::complex<double>(wk * wk - w * w, 2.0 * mode.sigma * w));
         Y += std::complex<double>(0.0, w) * receptance;
-        P += mode.radiation * (-w * w) * receptance;
+        P += mode.radiation * std::complex<double>(0.0, w) * receptance;
     }
     return {Y.real(), Y.imag(), P.real(), P.imag()};
 }

@@ -5,7 +5,12 @@
 // Mode k moves the bridge by z_k (m): the bridge's displacement is w = sum_k z_k, and a force F on
 // the bridge drives each mode as m_k (z_k'' + 2 sigma_k z_k' + omega_k^2 z_k) = F, m_k its mass at
 // the bridge (kg). So the bridge's mobility is Y(w) = sum_k i w / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)).
-// The sound radiated to the listener is p = sum_k c_k z_k'' (Pa): c_k the mode's radiation weight.
+// The sound radiated to the listener is p = sum_k c_k z_k' (Pa): c_k the mode's radiation weight, the
+// pressure its bridge velocity makes there. A plate above its coincidence frequency radiates as its
+// surface moves, p ~ rho_air c_air v; below it the weights carry the radiation's efficiency. Read from
+// the accelerations instead, a truncated modal sum passes the bridge force's whole spectrum to the
+// listener however far above its last mode (each mode's instant response F / m_k); from the
+// velocities, the response falls above the last mode.
 //
 // In the solver the body's modes are more modes beside the strings', scaled to the strings' mass per
 // metre mu: zeta_k = sqrt(m_k / mu) z_k, so that (mu/2) zeta_k'^2 is the mode's kinetic energy. An
@@ -28,7 +33,7 @@ struct BodyMode
     double frequencyHz = 0.0;
     double sigma = 0.0;      // 1/s
     double massKg = 0.0;     // m_k at the bridge
-    double radiation = 0.0;  // c_k, Pa per m/s^2 of the mode's bridge acceleration
+    double radiation = 0.0;  // c_k, Pa per m/s of the mode's velocity at the bridge
 };
 
 struct ModalBody
@@ -44,7 +49,15 @@ struct BodyJoin
     std::vector<char> pointOnBody;  // per contact point of the strings' configuration
     // Scales every mode's coupling row (0: the body is there but nothing reaches it; 1: as measured).
     double coupling = 1.0;
+    // Give the strings' configuration a pluck map (ModalSolverConfig::shapeToModes) when it has none:
+    // the identity on the strings' sine modes, the body at rest (a voice plucks through it).
+    bool mapShapes = false;
 };
+
+// Per contact point of contactPointsOnGrid(obstacles, L, gridIntervals), in its order: whether its
+// obstacle stands on the body (onBody: one flag per obstacle).
+std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, const std::vector<char>& onBody,
+                                      double lengthMetres, int gridIntervals);
 
 // The strings' configuration (M modes, on the projection path: sine modes or their own contact rows)
 // with the body's K modes appended (M + K modes): the contact rows of the points on the body take
@@ -52,12 +65,12 @@ struct BodyJoin
 // pluck's map leaves the body at rest. The transform path is refused (the body couples the points).
 ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& join);
 
-// The pickup weights (M + K values) that read sum_k c_k z_k: the radiated pressure is their second
-// time derivative (the renderer's "pressure" quantity: the second difference over a step).
+// The pickup weights (M + K values) that read sum_k c_k z_k: the radiated pressure is their time
+// derivative (the centred difference over two steps).
 std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity);
 
-// The bridge's mobility Y(f) and the radiated pressure per newton on the bridge, P(f) = sum_k c_k
-// (-w^2) / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)), at frequency f (Hz): the body's own responses.
+// The bridge's mobility Y(f) and the radiated pressure per newton on the bridge, P(f) = sum_k c_k i w
+// / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)), at frequency f (Hz): the body's own responses.
 struct BodyResponse
 {
     double mobilityReal = 0.0, mobilityImag = 0.0;  // s/kg

@@ -14,6 +14,27 @@ namespace
 {
 // The sine modes a pluck's shape is given in, and that shape in the solver's modes
 // (ModalSolverConfig::shapeToModes).
+// One flag per obstacle: whether it stands on the voice's body (every obstacle when none are flagged).
+std::vector<char> obstacleFlags(const VoiceConfig& config)
+{
+    return config.obstacleOnBody.empty() ? std::vector<char>(config.obstacles.size(), 1) : config.obstacleOnBody;
+}
+
+// The contact points the string can reach (g + reach > 0), and their on-the-body flags with them.
+void keepReachable(std::vector<ContactPoint>& contacts, std::vector<char>& onBody,
+                   const std::function<double(double)>& reach)
+{
+    size_t kept = 0;
+    for (size_t j = 0; j < contacts.size(); ++j)
+        if (contacts[j].height + reach(contacts[j].position) > 0.0)
+        {
+            contacts[kept] = contacts[j];
+            onBody[kept++] = onBody[j];
+        }
+    contacts.resize(kept);
+    onBody.resize(kept);
+}
+
 int shapeModes(const ModalSolverConfig& c)
 {
     return c.shapeToModes.empty() ? c.modes.size() : static_cast<int>(c.shapeToModes.size()) / c.modes.size();
@@ -41,12 +62,15 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
 {
     const auto& s = config.string;
     const int M = config.modes;
-    if (config.quantity == PickupQuantity::pressure || config.quantity == PickupQuantity::bridgeForce)
-        throw std::invalid_argument("the voice reads no body's pressure or bridge force (the reference does)");
+    if (config.quantity == PickupQuantity::bridgeForce)
+        throw std::invalid_argument("the voice reads no bridge force (the reference does)");
+    if (config.quantity == PickupQuantity::pressure && !config.body)
+        throw std::invalid_argument("the voice reads a pressure from its body, and it has none");
     ModalSolverConfig c = stringSolverConfig(s, config.obstacles, M, config.oversampling * config.hostRateHz,
                                              config.pickupPosition, config.quantity);
+    auto onBody = contactPointsOnBody(config.obstacles, obstacleFlags(config), s.lengthMetres, M + 1);
     if (config.reach)
-        std::erase_if(c.contacts, [&](const ContactPoint& p) { return p.height + config.reach(p.position) <= 0.0; });
+        keepReachable(c.contacts, onBody, config.reach);
     if (config.residualCompliance && !c.contacts.empty())
     {
         // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is
@@ -85,6 +109,16 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         c = coupledModesConfig(c, *config.secondPolarisation).config;  // complianceLoss carried over
         c.contactCompliance = compliance;
     }
+    if (config.body)
+    {
+        const int stringModes = c.modes.size();
+        c = withBody(c, {&*config.body, onBody, config.bodyCoupling, true});
+        if (config.quantity == PickupQuantity::pressure)
+        {
+            c.pickupWeights = radiationWeights(*config.body, stringModes, s.linearDensity);
+            c.secondPickupWeights.clear();  // one listener
+        }
+    }
     return c;
 }
 
@@ -102,7 +136,11 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
 {
     baseOmega_ = solverConfig.modes.omega;
     baseFrequencyHz_ = solverConfig.modes.frequencyHz;
+    baseSigma_ = solverConfig.modes.sigma;
     omegaScratch_.edit().assign(baseOmega_.size(), 0.0);
+    sigmaScratch_.edit().assign(baseOmega_.size(), 0.0);
+    stringModes_ = solverConfig.modes.size() - (config.body ? int(config.body->modes.size()) : 0);
+
     for (int j = 0; j < solver_.contactCount(); ++j)
         baseHeights_.edit().push_back(solver_.contact(j).height);
     unitPluck_ = shapeInModes(solverConfig, pluckModalShape(config.string.lengthMetres, shapeModes(solverConfig),
@@ -135,7 +173,8 @@ void Voice::setInitialShape(double position, double amplitudeMetres)
     }
     first_ = true;
     decimator_.reset();
-    primeDecimator_ = quantity_ != PickupQuantity::velocity;  // a held string's velocity is 0: the reset history
+    // A held string's velocity is 0, and its body at rest: the reset history.
+    primeDecimator_ = quantity_ != PickupQuantity::velocity && quantity_ != PickupQuantity::pressure;
     raiseCeiling();
 }
 
@@ -173,7 +212,7 @@ void Voice::raiseCeiling()
     const double forced =
         std::max(solver_.pickupForceBound(energyCeiling_), solver_.pickupForceBound(energyCeiling_, true));
     runawayLimit_ = 4.0 * (std::sqrt(2.0 * energyCeiling_ * pickupCompliance_) + forced);
-    if (quantity_ == PickupQuantity::velocity)
+    if (quantity_ == PickupQuantity::velocity || quantity_ == PickupQuantity::pressure)
         runawayLimit_ *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
 }
 
@@ -302,10 +341,15 @@ void Voice::retune(double ratio, const double* sigma)
     const double previous = ratio_;
     ratio_ = ratio;
     auto& omega = omegaScratch_.edit();
+    auto& damping = sigmaScratch_.edit();
     for (size_t p = 0; p < baseOmega_.size(); ++p)
-        omega[p] = ratio * baseOmega_[p];
+    {
+        const bool string = int(p) < stringModes_;
+        omega[p] = string ? ratio * baseOmega_[p] : baseOmega_[p];
+        damping[p] = string ? sigma[p] : baseSigma_[p];
+    }
     const double pickupScale = quantity_ == PickupQuantity::force ? ratio * ratio : 1.0;
-    solver_.retune(omegaScratch_.data(), sigma, 1.0 / (ratio * ratio), pickupScale);
+    solver_.retune(omegaScratch_.data(), sigmaScratch_.data(), 1.0 / (ratio * ratio), pickupScale);
     pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));
     // The same motion at a higher pitch holds more energy (the tension works): the ceiling follows.
     energyCeiling_ *= std::max(1.0, (ratio * ratio) / (previous * previous));

@@ -6,6 +6,7 @@
 // Construction is OFF (tables, contact matrices, filter design). The plucks, release(), process()
 // and takeMotionFrom() are RT: no allocation, no locks, no I/O.
 
+#include "physics/ModalBody.h"
 #include "physics/ModalSolver.h"
 #include "physics/Obstacle.h"
 #include "physics/Polarisations.h"
@@ -61,6 +62,12 @@ struct VoiceConfig
     // How far the string can ever move at x (m), when known (a scene plucked once: reachAt in
     // Quality.h): contact points with g + reach <= 0 are left out. Empty: every point is kept.
     std::function<double(double)> reach;
+    // The body under the obstacles flagged in obstacleOnBody (one flag per obstacle; empty: every
+    // obstacle), its modes after the string's (ModalBody.h), coupled by bodyCoupling. The "pressure"
+    // quantity reads its radiated sound. Empty: rigid supports.
+    std::optional<ModalBody> body;
+    std::vector<char> obstacleOnBody;
+    double bodyCoupling = 1.0;
 };
 
 // A voice's motion beyond its solver's: what Voice::takeMotionFrom() carries over to a voice of the
@@ -68,14 +75,15 @@ struct VoiceConfig
 struct VoiceMotion
 {
     // The stream of one pickup: sample n is the string at t = n dt (displacement), or the centred
-    // difference around it (velocity).
+    // difference around it (velocity, and the body's pressure).
     struct PickupStream
     {
         double y = 0.0, previous = 0.0;
         void start(double value) { y = previous = value; }
         double advance(double next, PickupQuantity quantity, double dt)
         {
-            const double sample = quantity == PickupQuantity::velocity ? (next - previous) / (2.0 * dt) : y;
+            const bool rate = quantity == PickupQuantity::velocity || quantity == PickupQuantity::pressure;
+            const double sample = rate ? (next - previous) / (2.0 * dt) : y;
             previous = y;
             y = next;
             return sample;
@@ -144,9 +152,10 @@ public:
     double finishSample(const ScalarContactSolution* solution);
     double secondSample() const { return secondSample_; }  // RT: the second pickup's, of the last sample
 
-    // RT: every mode's frequency scaled by `ratio` from the configured string (the note's pitch:
+    // RT: every string mode's frequency scaled by `ratio` from the configured string (the note's pitch:
     // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
-    // sigma (1/s, M values) given for the new frequencies. The residual compliance follows (1/r^2).
+    // sigma (1/s, at least the string's modes' values) given for the new frequencies. The residual
+    // compliance follows (1/r^2). A body's modes keep their own.
     void retune(double ratio, const double* sigma);
     double tuningRatio() const { return ratio_; }
     // The configured modes' frequencies (Hz), before any retune.
@@ -199,9 +208,11 @@ private:
     double ratio_ = 1.0;
     // Tables, and scratch the RT calls fill before use: skipped by a copy that has them already.
     StampedVector<double> baseOmega_, baseFrequencyHz_, omegaScratch_, baseHeights_;
+    StampedVector<double> baseSigma_, sigmaScratch_;  // every mode's configured damping; retune()'s
+    int stringModes_ = 0;  // the modes a retune scales: the string's (a body's modes follow them)
     StampedVector<double> unitPluck_, pluckScratch_;  // the 1 m triangular pluck's modal shape
     double excitationPosition_ = 0.0;
-    bool shapesMapped_ = false;  // the solver's modes are not the sine modes (two polarisations)
+    bool shapesMapped_ = false;  // the solver's modes are not the sine modes (two polarisations, a body)
 };
 
 // The voice's solver: stringSolverConfig plus the excitation point, the release damping, the
