@@ -64,6 +64,22 @@ std::vector<char> pointsOnBody(const std::vector<Obstacle>& obstacles, const std
     return on;
 }
 
+// Another string on the body, its modes after those before it (appendString), plucked from its own
+// shape; every contact point of it stands on the body.
+void addString(SolverSetup& s, const Scene& scene, const BodyString& other, std::vector<char>& onBody)
+{
+    const int M = scene.simulation.modes.value_or(kReferenceModes);
+    auto config = stringSolverConfig(other.string, other.obstacles, M, s.rateHz, 0.5 * other.string.lengthMetres,
+                                     PickupQuantity::displacement);
+    config.pickupWeights.clear();
+    appendString(s.config, config);
+    const double scale = std::sqrt(other.string.linearDensity / scene.string.linearDensity);  // q' = scale q
+    for (const double q : pluckModalShape(other.string.lengthMetres, M, other.excitation.position,
+                                          other.excitation.amplitude))
+        s.initial.push_back(scale * q);
+    onBody.resize(onBody.size() + config.contacts.size(), 1);
+}
+
 // The body's modes after the strings' (ModalBody.h), at rest; the pressure pickup reads them.
 void addBody(SolverSetup& s, const Scene& scene, const std::vector<char>& onBody)
 {
@@ -109,17 +125,18 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
     }
     else if (!scene.body)
         chooseContactPath(s.config, path.value_or(ContactPath::automatic));
-    const int grid = scene.simulation.modes.value_or(kReferenceModes) + 1;
-    const auto onBody = pointsOnBody(obstacles, scene.body, scene.string.lengthMetres, grid, s.config.contacts.size());
-    for (size_t j = 0; j < onBody.size(); ++j)
-        if (onBody[j])
-            s.bridge.points.push_back(int(j));
+    auto onBody = pointsOnBody(obstacles, scene.body, scene.string.lengthMetres, M + 1, s.config.contacts.size());
     if (scene.body)
     {
         if (path == ContactPath::transform)
             throw std::invalid_argument("a body couples the contact points: it takes the projection path");
+        for (const auto& other : scene.body->strings)
+            addString(s, scene, other, onBody);
         addBody(s, scene, onBody);
     }
+    for (size_t j = 0; j < onBody.size(); ++j)
+        if (onBody[j])
+            s.bridge.points.push_back(int(j));
     return s;
 }
 
@@ -278,6 +295,15 @@ RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
 }
 
 }  // namespace
+
+std::unique_ptr<ModalSolver> referenceSolver(const Scene& scene)
+{
+    validateScene(scene);
+    const auto setup = referenceSetup(scene, std::nullopt);
+    auto solver = std::make_unique<ModalSolver>(setup.config);
+    solver->setInitialDisplacement(setup.initial);
+    return solver;
+}
 
 std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options,
                                    RenderStats* statsOut)

@@ -6,6 +6,7 @@
 #include "offline/Scene.h"
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -55,6 +56,10 @@ struct RenderOptions
 };
 
 RenderResult renderScene(const Scene& scene, const RenderOptions& options = {});
+
+// The reference's solver for a scene, in its initial state (tests and tools that read the solver: the
+// energy of each string on a body).
+std::unique_ptr<ModalSolver> referenceSolver(const Scene& scene);
 
 // The internal-rate signal and its solver, without resampling (tests compare solvers with it).
 std::vector<double> renderInternal(const Scene& scene, long long steps, const RenderOptions& options = {},

@@ -78,13 +78,22 @@ struct Simulation
     }
 };
 
+// Another string on the body, every obstacle of it standing there: the drone's other strings.
+struct BodyString
+{
+    StringParameters string;
+    std::vector<Obstacle> obstacles;
+    Excitation excitation;  // amplitude 0: at rest
+};
+
 // The instrument's body under the bridge (ModalBody.h): a factory body or listed modes, and the
-// obstacles that stand on it. The reference only.
+// obstacles that stand on it, and the other strings on it (the reference only).
 struct SceneBody
 {
     ModalBody body;
     std::vector<int> obstacles;  // indices into Scene::obstacles
     double coupling = 1.0;       // scales the body's coupling rows; 0: the body never moves
+    std::vector<BodyString> strings;
 };
 
 struct Scene

@@ -35,6 +35,33 @@ std::vector<BodyMode> readBodyModes(const json& modes, const std::string& path)
     return out;
 }
 
+// Another string on the body, read as a scene of its own ("string", "obstacles", "excitation"; at rest
+// without an excitation), its errors named under `path`.
+BodyString readBodyString(const json& value, const std::string& path)
+{
+    ObjectReader r(value, path);
+    json sub = {{"format", "jawari-scene/1"}};
+    for (const char* key : {"string", "obstacles", "excitation"})
+        if (r.has(key))
+            sub[key] = r.raw(key);
+    r.rejectUnknown();
+    try
+    {
+        const Scene scene = parseScene(sub.dump());
+        BodyString s{scene.string, scene.obstacles, scene.excitation};
+        if (!value.contains("excitation"))
+            s.excitation.amplitude = 0.0;
+        if (s.excitation.force)
+            throw SceneError("excitation.type", "a string on the body starts from its shape (\"pluck\")");
+        return s;
+    }
+    catch (const SceneError& e)
+    {
+        const std::string what = e.what();
+        throw SceneError(path + "." + e.path(), what.substr(std::min(what.size(), e.path().size() + 2)));
+    }
+}
+
 std::vector<int> readBodyObstacles(ObjectReader& r, const Scene& scene)
 {
     std::vector<int> indices;
@@ -77,6 +104,14 @@ SceneBody readBody(const json& value, const Scene& scene)
         mode.sigma *= dampingScale;
     body.obstacles = readBodyObstacles(r, scene);
     body.coupling = r.nonNegative("coupling", body.coupling);
+    if (r.has("strings"))
+    {
+        const json& strings = r.raw("strings");
+        if (!strings.is_array())
+            throw SceneError(r.at("strings"), "must be an array of strings, got " + typeName(strings));
+        for (size_t i = 0; i < strings.size(); ++i)
+            body.strings.push_back(readBodyString(strings[i], r.at("strings") + "[" + std::to_string(i) + "]"));
+    }
     r.rejectUnknown();
     return body;
 }
@@ -92,6 +127,9 @@ void validateSceneBody(const Scene& scene)
         return;
     }
     const auto& body = *scene.body;
+    if (!body.strings.empty() && !scene.simulation.reference)
+        throw SceneError("body.strings", "other strings on the body are rendered by the reference only (\"method\": "
+                                         "\"reference\")");
     for (size_t i = 0; i < body.obstacles.size(); ++i)
         if (body.obstacles[i] < 0 || size_t(body.obstacles[i]) >= scene.obstacles.size())
             throw SceneError("body.obstacles[" + std::to_string(i) + "]",

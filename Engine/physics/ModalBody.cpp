@@ -104,6 +104,41 @@ ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& joi
     return c;
 }
 
+void appendString(ModalSolverConfig& c, const ModalSolverConfig& other)
+{
+    if (c.transform || other.transform || !c.contactCompliance.empty() || !other.contactCompliance.empty())
+        throw std::invalid_argument("strings on one body take the projection path without a residual compliance");
+    const int M = c.modes.size(), N = other.modes.size();
+    const double scale = std::sqrt(c.linearDensity / other.linearDensity);
+    if (c.excitationPosition && c.excitationShape.empty())
+        for (int p = 1; p <= M; ++p)
+            c.excitationShape.push_back(modeShape(c.lengthMetres, p, *c.excitationPosition));
+    const auto ownRows = stringRows(c), otherRows = stringRows(other);
+    c.contactShapes.clear();
+    for (size_t j = 0; j < c.contacts.size(); ++j)
+    {
+        c.contactShapes.insert(c.contactShapes.end(), ownRows.begin() + long(j * M), ownRows.begin() + long((j + 1) * M));
+        c.contactShapes.resize(c.contactShapes.size() + size_t(N), 0.0);
+    }
+    for (size_t j = 0; j < other.contacts.size(); ++j)
+    {
+        c.contactShapes.resize(c.contactShapes.size() + size_t(M), 0.0);
+        for (size_t p = 0; p < size_t(N); ++p)
+            c.contactShapes.push_back(scale * otherRows[j * size_t(N) + p]);
+    }
+    c.contacts.insert(c.contacts.end(), other.contacts.begin(), other.contacts.end());
+    for (auto* table : {&c.modes.frequencyHz, &c.modes.omega, &c.modes.sigma})
+        table->reserve(size_t(M + N));
+    c.modes.frequencyHz.insert(c.modes.frequencyHz.end(), other.modes.frequencyHz.begin(), other.modes.frequencyHz.end());
+    c.modes.omega.insert(c.modes.omega.end(), other.modes.omega.begin(), other.modes.omega.end());
+    c.modes.sigma.insert(c.modes.sigma.end(), other.modes.sigma.begin(), other.modes.sigma.end());
+    c.pickupWeights = padded(c.pickupWeights, N);
+    c.secondPickupWeights = padded(c.secondPickupWeights, N);
+    c.excitationShape = padded(c.excitationShape, N);
+    if (!c.shapeToModes.empty())
+        c.shapeToModes.resize(c.shapeToModes.size() / size_t(M) * size_t(M + N), 0.0);
+}
+
 std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, const std::vector<char>& onBody,
                                       double lengthMetres, int gridIntervals)
 {

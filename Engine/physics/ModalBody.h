@@ -54,6 +54,12 @@ struct BodyJoin
     bool mapShapes = false;
 };
 
+// Another string beside those of `c` (sharing a body with them, ModalBody above): its modes appended
+// after c's, its coordinates scaled to c's mass per metre as the body's are (q' = sqrt(mu_o / mu) q,
+// rows phi sqrt(mu / mu_o)), its contact points after c's. The pickups and the excitation read and
+// push c's strings only. Both on the projection path, without a residual compliance.
+void appendString(ModalSolverConfig& c, const ModalSolverConfig& other);
+
 // Per contact point of contactPointsOnGrid(obstacles, L, gridIntervals), in its order: whether its
 // obstacle stands on the body (onBody: one flag per obstacle).
 std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, const std::vector<char>& onBody,

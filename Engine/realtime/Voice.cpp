@@ -35,6 +35,18 @@ void keepReachable(std::vector<ContactPoint>& contacts, std::vector<char>& onBod
     onBody.resize(kept);
 }
 
+// The voice's body after its string's modes (withBody); the pressure pickup reads it, one listener.
+void joinBody(ModalSolverConfig& c, const VoiceConfig& config, const std::vector<char>& onBody)
+{
+    const int stringModes = c.modes.size();
+    c = withBody(c, {&*config.body, onBody, config.bodyCoupling, true});
+    if (config.quantity == PickupQuantity::pressure)
+    {
+        c.pickupWeights = radiationWeights(*config.body, stringModes, config.string.linearDensity);
+        c.secondPickupWeights.clear();
+    }
+}
+
 int shapeModes(const ModalSolverConfig& c)
 {
     return c.shapeToModes.empty() ? c.modes.size() : static_cast<int>(c.shapeToModes.size()) / c.modes.size();
@@ -110,15 +122,7 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         c.contactCompliance = compliance;
     }
     if (config.body)
-    {
-        const int stringModes = c.modes.size();
-        c = withBody(c, {&*config.body, onBody, config.bodyCoupling, true});
-        if (config.quantity == PickupQuantity::pressure)
-        {
-            c.pickupWeights = radiationWeights(*config.body, stringModes, s.linearDensity);
-            c.secondPickupWeights.clear();  // one listener
-        }
-    }
+        joinBody(c, config, onBody);
     return c;
 }
 
