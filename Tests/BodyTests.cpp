@@ -405,3 +405,24 @@ TEST_CASE("A string at rest on the body takes energy from a plucked one through 
             CHECK(most == 0.0);
     }
 }
+
+TEST_CASE("The voice with a body whose coupling is zero plays the string as without it, to rounding", "[body]")
+{
+    Scene plain = loadSceneFile(test::resource("Scenes/tanpura-sa.json"));
+    plain.simulation.forgetConfiguration();
+    setMethodByName(plain.simulation, "realtime");
+    plain.simulation.durationSeconds = 0.3;
+    Scene uncoupled = withTanpuraBody(plain, PickupQuantity::displacement);
+    uncoupled.body->coupling = 0.0;
+    const auto a = renderScene(plain).output;
+    const auto b = renderScene(uncoupled).output;
+    REQUIRE(a.size() == b.size());
+    double peak = 0.0, largest = 0.0;
+    for (size_t n = 0; n < a.size(); ++n)
+    {
+        peak = std::max(peak, std::abs(a[n]));
+        largest = std::max(largest, std::abs(a[n] - b[n]));
+    }
+    INFO("largest difference " << largest << " m of a peak of " << peak << " m");
+    CHECK(largest <= 1e-10 * peak);  // rounding: the pluck reaches the modes through the body's map
+}
