@@ -189,6 +189,8 @@ public:
     double pickup() const { return pickups_[0].value; }              // RT: sum h_p q_p^n
     double secondPickup() const { return pickups_[1].value; }        // RT: the second pickup's, 0 without one
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
+    // The contact equation's own coefficient at point j, A_jj (m per unit slope: ContactSystem.h).
+    double contactSelfCoupling(int j) const { return system_.coupling()(j, j); }
     // RT: the force (N) the last step's contact put on the string at point j, -w_j G_j (> 0 pushes it up).
     double contactForce(int j) const { return -contacts_[size_t(j)].weight * slope_[size_t(j)]; }
     // RT: max_j g_j - u_j^n (m) over the unilateral points
