@@ -482,7 +482,9 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     initial.resize(size_t(joinedConfig.modes.size()), 0.0);
     joined.setInitialDisplacement(initial);
 
-    ModalSolver a(first), b(second);
+    auto pushable = second;  // a string a force can push (the refusal below)
+    pushable.excitationPosition = pa.excitation.position;
+    ModalSolver a(first), b(pushable);
     a.setInitialDisplacement(pluckOf(sa));
     b.setInitialDisplacement(pluckOf(pa));
     SharedBody shared(body, 1.0, {&a, &b});
@@ -507,4 +509,9 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     CHECK(contacts > 100);
     CHECK(bridge > 1e-9);
     CHECK(largest < 1e-9 * peak);
+    // A string pushed by an explicit force steps alone: the shared step refuses, nothing stepped.
+    const double before = a.pickup();
+    b.setExternalForce(1.0);
+    CHECK_FALSE(shared.step(strings, 2));
+    CHECK(a.pickup() == before);
 }

@@ -112,6 +112,11 @@ public:
     // has predicted the step, `request` holds the point's scalar equation, and finishStep() takes
     // its solution and completes the step.
     bool beginStep(ScalarContactRequest& request);
+    // RT: whether the next beginStep() waits for its point's solution (returns true).
+    bool nextStepWaits() const
+    {
+        return state_.pairable() && externalForce_ == 0.0 && P_ == 1 && method_ == ContactMethod::energyConserving;
+    }
     // RT: whether the next step runs a pass over the modes, and the cache asked for its arrays.
     bool nextStepPasses() const { return !state_.pairable() || state_.layout() != ModalState::Layout::pairMiddle; }
     void prefetchPass() const { state_.prefetchPass(); }

@@ -56,6 +56,9 @@ double SharedBody::bridgeDisplacement() const
 
 bool SharedBody::step(ModalSolver* const* strings, int count)
 {
+    for (int i = 0; i < count; ++i)
+        if (!strings[i]->nextStepWaits())
+            return false;
     // The body's prediction, and the bridge's w^{n-1} and predicted w~.
     double before = 0.0, predicted = 0.0;
     for (size_t k = 0; k < z_.size(); ++k)
@@ -68,8 +71,7 @@ bool SharedBody::step(ModalSolver* const* strings, int count)
     predicted *= coupling_;
     for (int i = 0; i < count; ++i)
     {
-        if (!strings[i]->beginStep(requests_[size_t(i)]))
-            return false;
+        strings[i]->beginStep(requests_[size_t(i)]);  // waits (checked above)
         s_[size_t(i)] = requests_[size_t(i)].s + before;
         b_[size_t(i)] = requests_[size_t(i)].b - (predicted - before);
     }

@@ -30,8 +30,9 @@ public:
     // coupled by `coupling`, at the strings' common time step.
     SharedBody(const ModalBody& body, double coupling, const std::vector<ModalSolver*>& strings);
 
-    // RT: one step of the strings given at construction, in that order, and of the body. False (the
-    // step not taken) when a string cannot take a paired one-point step (an explicit force on it).
+    // RT: one step of the strings given at construction, in that order, and of the body. False, and
+    // nothing stepped, when a string's next step would not wait for its point's solution
+    // (ModalSolver::nextStepWaits: an explicit force on it).
     bool step(ModalSolver* const* strings, int count);
 
     double bridgeDisplacement() const;  // RT: w^n (m)
