@@ -43,6 +43,14 @@ std::vector<double> stringRows(const ModalSolverConfig& c)
     return rows;
 }
 
+// The excitation's shape over the sine modes, when the configuration names a position but no shape.
+void materialiseExcitation(ModalSolverConfig& c)
+{
+    if (c.excitationPosition && c.excitationShape.empty())
+        for (int p = 1; p <= c.modes.size(); ++p)
+            c.excitationShape.push_back(modeShape(c.lengthMetres, p, *c.excitationPosition));
+}
+
 // v over M modes, padded with K zeros (left empty when empty).
 std::vector<double> padded(const std::vector<double>& v, int K)
 {
@@ -68,6 +76,7 @@ ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& joi
     const int M = strings.modes.size(), K = int(body.modes.size());
     const double mu = strings.linearDensity;
     ModalSolverConfig c = strings;
+    materialiseExcitation(c);
     for (const auto& mode : body.modes)
     {
         c.modes.frequencyHz.push_back(mode.frequencyHz);
@@ -85,11 +94,6 @@ ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& joi
     }
     c.pickupWeights = padded(strings.pickupWeights, K);
     c.secondPickupWeights = padded(strings.secondPickupWeights, K);
-    if (strings.excitationPosition && strings.excitationShape.empty())
-    {
-        for (int p = 1; p <= M; ++p)
-            c.excitationShape.push_back(modeShape(strings.lengthMetres, p, *strings.excitationPosition));
-    }
     c.excitationShape = padded(c.excitationShape, K);
     // A pluck's map B, (M + K) x m: the strings' rows, then the body's, at rest. Empty stays empty
     // (the sine modes: the caller plucks the first M modes) unless asked for.
@@ -110,9 +114,7 @@ void appendString(ModalSolverConfig& c, const ModalSolverConfig& other)
         throw std::invalid_argument("strings on one body take the projection path without a residual compliance");
     const int M = c.modes.size(), N = other.modes.size();
     const double scale = std::sqrt(c.linearDensity / other.linearDensity);
-    if (c.excitationPosition && c.excitationShape.empty())
-        for (int p = 1; p <= M; ++p)
-            c.excitationShape.push_back(modeShape(c.lengthMetres, p, *c.excitationPosition));
+    materialiseExcitation(c);
     const auto ownRows = stringRows(c), otherRows = stringRows(other);
     c.contactShapes.clear();
     for (size_t j = 0; j < c.contacts.size(); ++j)

@@ -19,7 +19,6 @@ SharedBody::SharedBody(const ModalBody& body, double coupling, const std::vector
     {
         coefficients_.push_back(exactCoefficients(2.0 * std::numbers::pi * mode.frequencyHz, mode.sigma, dt_));
         push_.push_back(dt_ * dt_ * coupling / mode.massKg);
-        mass_.push_back(mode.massKg);
         inverseMass += 1.0 / mode.massKg;
     }
     z_.assign(body.modes.size(), 0.0);
@@ -92,18 +91,6 @@ bool SharedBody::step(ModalSolver* const* strings, int count)
         z_[k] = zNext_[k] + push_[k] * force_;
     }
     return true;
-}
-
-double SharedBody::energy() const
-{
-    double sum = 0.0;
-    for (size_t k = 0; k < z_.size(); ++k)
-    {
-        const auto& c = coefficients_[k];
-        const double v = (z_[k] - zPrevious_[k]) / dt_;
-        sum += mass_[k] * (c.kineticWeight * v * v + c.potentialWeight * z_[k] * zPrevious_[k]);
-    }
-    return 0.5 * sum;
 }
 
 }  // namespace jawari

@@ -37,12 +37,10 @@ public:
 
     double bridgeDisplacement() const;  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, pushing the body down)
-    double energy() const;  // RT: the body's share of H^{n-1/2} (J)
 
 private:
     std::vector<ExactModeCoefficients> coefficients_;
     std::vector<double> push_;  // dt^2 kappa / m_k
-    std::vector<double> mass_;
     std::vector<double> z_, zPrevious_, zNext_;
     double coupling_ = 1.0, dt_ = 0.0, force_ = 0.0;
     ContactSystem system_;
