@@ -100,12 +100,21 @@ const ControlSpec kControls[] = {
      "Steps half the sounding strings on a second core, beside the host's audio thread: for high quality or many "
      "strings where one core is not enough. The sound is the same to the last bit; off, everything runs on the "
      "audio thread."},
+    {"String", ids::pluckStyle, "Pluck",
+     "Sharp: a 1.5 ms flick at the pluck point. Soft: a finger's push, rising over 50 ms and letting go "
+     "abruptly; through a body the sound then grows for half a second as the bridge wakes the high partials."},
+    {"Body", ids::body, "Body",
+     "What the bridge stands on. A tanpura's top plate (fitted to a measured tanpura's response) moves with the "
+     "bridge and radiates the sound you hear; none: rigid supports, heard through the pickup."},
+    {"Body", ids::bodyMix, "Mix", "With a body: its radiated sound at 100 %, the pickup (the string's velocity) at 0."},
+    {"Body", ids::bodyTuning, "Tuning", "Scales every body mode's frequency: a smaller body sounds higher."},
+    {"Body", ids::bodyDamping, "Damping", "Scales every body mode's damping."},
 };
 static_assert(std::size(kControls) == kParameterCount);
 
 // The panels, row by row as the editor lays them out.
 const std::vector<std::vector<const char*>> kPanelRows = {
-    {"String", "Output"}, {"Obstacle", "Thread"}, {"Damping", "Quality"}, {"Drone"}, {"Drone tuning", "MIDI"}};
+    {"String", "Output"}, {"Obstacle", "Thread"}, {"Damping", "Quality"}, {"Drone", "Body"}, {"Drone tuning", "MIDI"}};
 
 ParameterControl::ParameterControl(juce::AudioProcessorValueTreeState& state, const char* id, const char* title,
                                    const char* tooltip)

@@ -223,6 +223,22 @@ void addMidi(Layout& layout)
                       inUnit("semitones", 0)));
 }
 
+// The body under the bridge (docs/design.md section 1, "The body") and how the strings are plucked.
+void addBody(Layout& layout)
+{
+    const auto& s = kStructureDefaults;
+    layout.add(choice(ids::pluckStyle, "Pluck", juce::StringArray{"sharp", "soft"}, static_cast<int>(s.pluck)));
+    juce::StringArray bodies;
+    for (const char* name : kBodyNames)
+        bodies.add(name);
+    layout.add(choice(ids::body, "Body", bodies, static_cast<int>(s.body)));
+    layout.add(number(ids::bodyMix, "Body mix", Range(0.0f, 1.0f, 0.001f), float(kControlDefaults.bodyMix),
+                      asPercent()));
+    layout.add(number(ids::bodyTuning, "Body tuning", skewed(0.5f, 2.0f, 1.0f), float(s.bodyTuning), asMultiplier(2)));
+    layout.add(
+        number(ids::bodyDamping, "Body damping", skewed(0.25f, 4.0f, 1.0f), float(s.bodyDamping), asMultiplier(2)));
+}
+
 int rounded(float value)
 {
     return static_cast<int>(std::lround(value));
@@ -260,6 +276,7 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
                       float(s.threadStiffness / kNewtonsPerKilonewton), inUnit("kN/m", 1)));
     layout.add(number(ids::threadDamping, "Thread damping", skewed(0.0f, 20.0f, 1.2f), float(s.threadDamping),
                       inUnit("kg/s", 2)));
+    addBody(layout);
     return layout;
 }
 
@@ -294,6 +311,10 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
     s.threadModel = rounded(get(ids::threadModel)) == 1 ? ThreadModel::contact : ThreadModel::springDamper;
     s.threadStiffness = get(ids::threadStiffness) * kNewtonsPerKilonewton;
     s.threadDamping = get(ids::threadDamping);
+    s.pluck = rounded(get(ids::pluckStyle)) == 1 ? PluckStyle::soft : PluckStyle::sharp;
+    s.body = static_cast<BodyChoice>(std::clamp(rounded(get(ids::body)), 0, int(std::size(kBodyNames)) - 1));
+    s.bodyTuning = get(ids::bodyTuning);
+    s.bodyDamping = get(ids::bodyDamping);
     s.hostRateHz = hostRateHz;
     return s;
 }
@@ -311,6 +332,7 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     for (int i = 0; i < kDampingCurvePoints; ++i)
         c.dampingCurve[size_t(i)] = curve[size_t(i)].load(std::memory_order_relaxed);
     c.gainDb = get(ids::gain);
+    c.bodyMix = get(ids::bodyMix);
     c.bendRangeSemitones = get(ids::bendRange);
     c.drone = get(ids::drone) > 0.5f;
     c.droneTonic = rounded(get(ids::droneTonic));

@@ -61,6 +61,11 @@ inline constexpr const char* threadDiameter = "threadDiameter";
 inline constexpr const char* threadModel = "threadModel";
 inline constexpr const char* threadStiffness = "threadStiffness";
 inline constexpr const char* threadDamping = "threadDamping";
+inline constexpr const char* pluckStyle = "pluckStyle";
+inline constexpr const char* body = "body";
+inline constexpr const char* bodyMix = "bodyMix";
+inline constexpr const char* bodyTuning = "bodyTuning";
+inline constexpr const char* bodyDamping = "bodyDamping";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -106,7 +111,12 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::threadDiameter,
                                                 ids::threadModel,
                                                 ids::threadStiffness,
-                                                ids::threadDamping};
+                                                ids::threadDamping,
+                                                ids::pluckStyle,
+                                                ids::body,
+                                                ids::bodyMix,
+                                                ids::bodyTuning,
+                                                ids::bodyDamping};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

@@ -8,6 +8,8 @@ namespace jawari::plugin
 const std::vector<FactoryPreset>& factoryPresets()
 {
     // Positions are fractions of the string's length (the paper's 0.501 m and 0.992 m on 1.002 m).
+    // The tanpura and sitar presets play through the tanpura's body (the sitar's top is of the same
+    // wood and build), the tanpura's plucked softly, as a finger does.
     static const std::vector<FactoryPreset> presets = {
         {"Default (tanpura bridge, no drone)", {}},
         {"Paper centre obstacle",
@@ -30,7 +32,9 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::obstacleWidth, 1.0f},
           {ids::pluckPosition, 0.5f},
           {ids::pickupPosition, 0.992f / 1.002f},
-          {ids::drone, 1.0f}}},
+          {ids::drone, 1.0f},
+          {ids::body, 1.0f},
+          {ids::pluckStyle, 1.0f}}},
         {"Sitar (parabolic bridge)",
          {{ids::stringType, 1.0f},
           {ids::obstacleShape, 1.0f},
@@ -42,7 +46,8 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::bridgeCurvature, 8.0f},
           {ids::inharmonicity, 1.0e-5f},
           {ids::pluckPosition, 0.2f},
-          {ids::pickupPosition, 0.95f}}},
+          {ids::pickupPosition, 0.95f},
+          {ids::body, 1.0f}}},
         {"Bass fret buzz",
          {{ids::stringType, 2.0f},
           {ids::obstacleShape, 2.0f},
@@ -78,7 +83,9 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::threadModel, 1.0f},
           {ids::threadPosition, 6.0f},
           {ids::threadDiameter, 0.2f},
-          {ids::drone, 1.0f}}},
+          {ids::drone, 1.0f},
+          {ids::body, 1.0f},
+          {ids::pluckStyle, 1.0f}}},
     };
     return presets;
 }

@@ -77,6 +77,7 @@ constexpr Control kImmediateControls[] = {
      {.lowest = 0.0, .highest = 24.0, .fallback = kDefaults.bendRangeSemitones, .glide = true, .tolerance = 1e-6}},
     {&Controls::gainDb, {.lowest = -120.0, .highest = 24.0, .fallback = kDefaults.gainDb}},
     {&Controls::stereoWidth, {.lowest = 0.0, .highest = 1.0, .fallback = kDefaults.stereoWidth}},
+    {&Controls::bodyMix, {.lowest = 0.0, .highest = 1.0, .fallback = kDefaults.bodyMix, .glide = true, .tolerance = 1e-6}},
     {&Controls::droneSaHz, {.lowest = 0.0, .highest = 2000.0, .fallback = 0.0}},
     {&Controls::droneTempo, {.fallback = kDefaults.droneTempo}},
     {&Controls::humanise, {.fallback = 0.0}},

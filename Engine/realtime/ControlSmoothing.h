@@ -40,7 +40,7 @@ struct ControlChanges
 };
 
 // The controls' targets and their values as played. The obstacle's height, stiffness
-// (geometrically) and exponent, the bend range and the output gain glide through a 20 ms one-pole; every other
+// (geometrically) and exponent, the bend range, the body's mix and the output gain glide through a 20 ms one-pole; every other
 // control jumps (the damping and tuning then retune the strings). The controls of one effect move
 // together: when any of them moves, all of them take their step.
 class SmoothedControls

@@ -56,13 +56,13 @@ void Instrument::render(float* left, float* right, int numSamples)
 void Instrument::renderChunk(float* left, float* right, int count)
 {
     const double rate = pack_->structure.hostRateHz;
-    const double gainStart = controls_.gain();
+    const MixStart start{controls_.gain(), controls_.current().bodyMix};
     followControls(1.0 - std::exp(-count / (0.020 * rate)));
     followExpression(count, rate);
     drone_.advance(count, controls_.current(), rate, strings_, activity_);
     Sounding sounding = soundingStrings();
     stepStrings(sounding, count);
-    mixStrings(sounding, count, gainStart);
+    mixStrings(sounding, count, start);
     notes_.startStolenNotes();
     decimate(left, right, count);
     guard(left, right, count);
@@ -106,27 +106,24 @@ Instrument::Sounding Instrument::soundingStrings()
 }
 
 // Every sounding string's chunk at the internal rate, mixed into the left and right buffers.
-void Instrument::mixStrings(const Sounding& sounding, int count, double gainStart)
+void Instrument::mixStrings(const Sounding& sounding, int count, const MixStart& start)
 {
     const auto internal = long(count) * pack_->oversampling;
     std::fill(pack_->mixLeft.begin(), pack_->mixLeft.begin() + internal, 0.0);
     std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + internal, 0.0);
     for (int k = 0; k < sounding.count; ++k)
-        mixString(sounding.slots[size_t(k)], sounding.blocks[size_t(k)], sounding.seconds[size_t(k)], count, gainStart);
+        mixString(sounding.slots[size_t(k)], sounding.blocks[size_t(k)], sounding.seconds[size_t(k)], count, start);
 }
 
-// One string's chunk at the internal rate (block), panned and added into the mix with the gain ramp
-// from gainStart (and a steal's fade), both stepped per host sample. A string that has decayed to
-// nothing stops sounding; one whose steal has faded out is left to MidiNotes::startStolenNotes.
-void Instrument::mixString(int slot, const double* block, const double* second, int count, double gainStart)
+// One string's chunk at the internal rate (block, and its second pickup's), panned and added into
+// the mix with the gain ramp from start.gain (and a steal's fade), both stepped per host sample. A
+// string that has decayed to nothing stops sounding; one whose steal has faded out is left to
+// MidiNotes::startStolenNotes.
+void Instrument::mixString(int slot, const double* block, const double* second, int count, const MixStart& start)
 {
     auto& s = strings_[slot];
     auto& voice = strings_.voice(slot);
-    const int most = voice.takeMaxIterations();
-    maxIterations_ = std::max(maxIterations_, most);
-    activity_.mostIterations = std::max(activity_.mostIterations, most);
-    activity_.newtonIterations += voice.takeIterationCount();
-    chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
+    takeStatistics(voice);
     const auto& c = controls_.current();
     const double level = slot < kMidiVoices ? 1.0 : 0.5;  // the drone's four strings share the headroom
     // A MIDI string sits by its pitch: hard left at C3 and below, hard right at C7 and above, scaled by the width.
@@ -135,12 +132,17 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
     const double panLeft = level * std::sqrt(0.5 * (1.0 - pan)), panRight = level * std::sqrt(0.5 * (1.0 + pan));
     const double outputScale = pack_->outputScale;
     const int os = pack_->oversampling;
-    // The right channel: the first pickup, the second mixed in with the width.
+    // Without a body the right channel hears the first pickup and the second mixed in with the width;
+    // with one, both hear the body's sound and the pickup's (the string's velocity) mixed by bodyMix,
+    // over the string's tuning ratio: both grow with the pitch at a given displacement (a pluck's
+    // energy grows as the tension), where the displacement alone does not.
+    const bool body = pack_->structure.body != BodyChoice::none;
+    const double pitchLevel = body ? 1.0 / std::max(s.ratio, 1e-3) : 1.0;
     const double secondShare = c.stereoWidth * pack_->secondPickupGain, firstShare = 1.0 - c.stereoWidth;
     const double gainEnd = controls_.gain();
     for (int n = 0; n < count; ++n)
     {
-        double g = gainStart + (gainEnd - gainStart) * (n + 1) / count;
+        double g = start.gain + (gainEnd - start.gain) * (n + 1) / count;
         if (s.fade >= 0)
         {
             g *= double(s.fade) / strings_.fadeLength();
@@ -148,6 +150,18 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
                 --s.fade;
         }
         const double toLeft = panLeft * outputScale * g, toRight = panRight * outputScale * g;
+        if (body)
+        {
+            const double mix = start.bodyMix + (c.bodyMix - start.bodyMix) * (n + 1) / count;
+            const double radiated = mix * pitchLevel, picked = (1.0 - mix) * pack_->secondPickupGain * pitchLevel;
+            for (int k = n * os; k < (n + 1) * os; ++k)
+            {
+                const double v = radiated * block[k] + picked * second[k];
+                pack_->mixLeft[size_t(k)] += toLeft * v;
+                pack_->mixRight[size_t(k)] += toRight * v;
+            }
+            continue;
+        }
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
             pack_->mixLeft[size_t(k)] += toLeft * block[k];
@@ -158,8 +172,18 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
         return;
     const double e = voice.stringEnergy();
     s.peakEnergy = std::max(s.peakEnergy, e);
-    if (!(e > kSilentFraction * s.peakEnergy))
+    if (!(e > kSilentFraction * s.peakEnergy) && !voice.pulsing())  // a push from rest starts at 0
         s.sounding = false;
+}
+
+// The voice's solver statistics since the last chunk, into the instrument's.
+void Instrument::takeStatistics(Voice& voice)
+{
+    const int most = voice.takeMaxIterations();
+    maxIterations_ = std::max(maxIterations_, most);
+    activity_.mostIterations = std::max(activity_.mostIterations, most);
+    activity_.newtonIterations += voice.takeIterationCount();
+    chunkPenetration_ = std::max(chunkPenetration_, voice.takeMaxPenetration());
 }
 
 // The mix decimated once per channel (the decimator is linear) into left/right.

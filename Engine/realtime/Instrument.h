@@ -138,8 +138,14 @@ private:
     Sounding soundingStrings();
     void stepStrings(Sounding& sounding, int samples);
     void stepWithWorker(Sounding& sounding, int samples);
-    void mixStrings(const Sounding& sounding, int count, double gainStart);
-    void mixString(int slot, const double* block, const double* second, int count, double gainStart);
+    // Where the chunk's ramps start: the gain and the body's mix as the last chunk left them.
+    struct MixStart
+    {
+        double gain = 1.0, bodyMix = 1.0;
+    };
+    void mixStrings(const Sounding& sounding, int count, const MixStart& start);
+    void mixString(int slot, const double* block, const double* second, int count, const MixStart& start);
+    void takeStatistics(Voice& voice);
     void decimate(float* left, float* right, int count);
     void guard(float* left, float* right, int count);
     void publishSnapshotWhenDue(double rate);

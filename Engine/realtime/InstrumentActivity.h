@@ -7,7 +7,7 @@ namespace jawari
 // its slowest blocks with it). RT: plain counters.
 struct InstrumentActivity
 {
-    int notesStarted = 0;  // strings started from rest (a held shape)
+    int notesStarted = 0;  // strings started from rest (a held shape, or a soft pluck's push)
     int pulses = 0;        // strings re-plucked while sounding (a force pulse)
     int dronePlucks = 0;
     int retunes = 0;  // strings retuned (a note's start, a bend, new damping)

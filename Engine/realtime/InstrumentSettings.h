@@ -39,6 +39,23 @@ enum class ObstacleShape
     frets      // five frets at x = L 2^(-k/12), k = 1..5 (from the far end), each `width` wide
 };
 
+// The body the strings' bridge stands on (FactoryBodies.h), or rigid supports.
+enum class BodyChoice
+{
+    none,
+    tanpura
+};
+inline constexpr const char* kBodyNames[] = {"none", "tanpura"};
+
+// How a note plucks its string: a 1.5 ms pulse at the pluck point (a plectrum's flick), or DAFx-16's
+// push, which rises over 50 ms and lets go abruptly, spread over half the string (a finger's; through a
+// body its sound grows after the pluck: docs/design.md section 1, "The body").
+enum class PluckStyle
+{
+    sharp,
+    soft
+};
+
 struct InstrumentStructure
 {
     int stringType = 0;
@@ -66,6 +83,12 @@ struct InstrumentStructure
     ThreadModel threadModel = ThreadModel::springDamper;
     double threadStiffness = threadStiffnessForWidth(kThreadWidthMetres);  // N/m, the damped thread's
     double threadDamping = threadDampingForStiffness(threadStiffness);       // kg/s, the damped thread's
+    PluckStyle pluck = PluckStyle::sharp;
+    // The body under every obstacle, its modes in each string's solver (each string on its own copy),
+    // heard through its radiated sound (InstrumentControls::bodyMix). None: rigid supports.
+    BodyChoice body = BodyChoice::none;
+    double bodyTuning = 1.0;   // scales every body mode's frequency (a smaller body sounds higher)
+    double bodyDamping = 1.0;  // scales every body mode's damping
 
     bool operator==(const InstrumentStructure&) const = default;
 };
@@ -81,6 +104,9 @@ struct InstrumentControls
     double qTeInv = DampingParameters{}.qTeInv;    // thermoelastic 1/Q
     std::array<double, kDampingCurvePoints> dampingCurve{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};  // multipliers
     double gainDb = 0.0;
+    // With a body: 1 plays its radiated sound, 0 the string's velocity at the pickup (an electric
+    // pickup's), between a mix of the two. Without a body the pickup plays.
+    double bodyMix = 1.0;
     // How far the MIDI strings spread across the stereo field by pitch: 0 all in the centre; 1 from
     // hard left at C3 (48) and below to hard right at C7 (96) and above, C5 (72) in the centre. It
     // also mixes the second pickup into the right channel: (1 - width) of the first pickup and

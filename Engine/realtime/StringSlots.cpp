@@ -60,15 +60,18 @@ void StringSlots::start(int slot, int note, double pitch, double velocity, int c
     }
     retune(slot);
     v.cancelRelease();
-    if (fromRest)
+    if (fromRest && !v.pushes())
     {
         v.pluckFromShape(kPluckMetresPerVelocity * velocity);
         ++activity_.notesStarted;
     }
     else
     {
-        v.pluckWithPulse(velocity);
-        ++activity_.pulses;
+        v.pluckWithPulse(velocity);  // a soft pluck pushes from rest too
+        if (fromRest)
+            ++activity_.notesStarted;
+        else
+            ++activity_.pulses;
     }
     s.held = true;
     s.sustained = false;

@@ -35,16 +35,14 @@ void keepReachable(std::vector<ContactPoint>& contacts, std::vector<char>& onBod
     onBody.resize(kept);
 }
 
-// The voice's body after its string's modes (withBody); the pressure pickup reads it, one listener.
+// The voice's body after its string's modes (withBody); the pressure pickup reads it, one listener,
+// and a second pickup the string's velocity at its point.
 void joinBody(ModalSolverConfig& c, const VoiceConfig& config, const std::vector<char>& onBody)
 {
     const int stringModes = c.modes.size();
     c = withBody(c, {&*config.body, onBody, config.bodyCoupling, true});
     if (config.quantity == PickupQuantity::pressure)
-    {
         c.pickupWeights = radiationWeights(*config.body, stringModes, config.string.linearDensity);
-        c.secondPickupWeights.clear();
-    }
 }
 
 int shapeModes(const ModalSolverConfig& c)
@@ -80,6 +78,12 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
         throw std::invalid_argument("the voice reads a pressure from its body, and it has none");
     ModalSolverConfig c = stringSolverConfig(s, config.obstacles, M, config.oversampling * config.hostRateHz,
                                              config.pickupPosition, config.quantity);
+    if (config.push)
+    {
+        ForcePluck push = *config.push;
+        push.position = config.excitationPosition;
+        c.excitationShape = forcePluckModalShape(s.lengthMetres, M, push);
+    }
     auto onBody = contactPointsOnBody(config.obstacles, obstacleFlags(config), s.lengthMetres, M + 1);
     if (config.reach)
         keepReachable(c.contacts, onBody, config.reach);
@@ -156,8 +160,14 @@ Voice::Voice(const VoiceConfig& config, const ModalSolverConfig& solverConfig)
     lengthMetres_ = config.string.lengthMetres;
     pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));
     runawayLimit_ = 0.0;
-    pulseSteps_ = std::max<long>(1, std::lround(config.pluckSeconds / dt_));
-    pluckForce_ = config.pluckForceNewtons;
+    pulseSteps_ = std::max<long>(1, std::lround((config.push ? config.push->duration : config.pluckSeconds) / dt_));
+    pluckForce_ = config.push ? std::abs(config.push->amplitude) : config.pluckForceNewtons;
+    if (config.push)
+    {
+        push_ = *config.push;
+        push_->amplitude = config.push->amplitude < 0.0 ? -1.0 : 1.0;
+        push_->start = 0.0;
+    }
     pulseStep_ = -1;  // no pulse running
 }
 
@@ -256,9 +266,7 @@ void Voice::beforeStep()
     {
         if (pulseStep_ < pulseSteps_)
         {
-            // Raised-cosine force pulse: smooth on and off, so a sounding string is plucked without a click.
-            const double phase = (double(pulseStep_) + 0.5) / double(pulseSteps_);
-            solver_.setExternalForce(pulsePeak_ * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase)));
+            solver_.setExternalForce(pulsePeak_ * pulseForce(pulseStep_));
             ++pulseStep_;
         }
         else
@@ -275,6 +283,15 @@ void Voice::beforeStep()
         secondPickup_.start(solver_.secondPickup());
         first_ = false;
     }
+}
+
+double Voice::pulseForce(long step) const
+{
+    if (push_)
+        return forcePluckNewtons(*push_, double(step) * dt_);
+    // A raised cosine: smooth on and off, so a sounding string is plucked without a click.
+    const double phase = (double(step) + 0.5) / double(pulseSteps_);
+    return 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * phase));
 }
 
 double Voice::sampleAfterStep()

@@ -6,6 +6,7 @@
 // Construction is OFF (tables, contact matrices, filter design). The plucks, release(), process()
 // and takeMotionFrom() are RT: no allocation, no locks, no I/O.
 
+#include "physics/ForcePluck.h"
 #include "physics/ModalBody.h"
 #include "physics/ModalSolver.h"
 #include "physics/Obstacle.h"
@@ -39,6 +40,10 @@ struct VoiceConfig
     double releaseSeconds = 0.25;    // note-off: every mode gains damping ln(1000)/releaseSeconds
     double pluckSeconds = 1.5e-3;    // the pluck's force pulse (raised cosine) lasts this long
     double pluckForceNewtons = 2.0;  // its peak force at velocity 1
+    // DAFx-16's push instead of the pulse (ForcePluck.h: it rises slowly and lets go abruptly, spread
+    // over its width around the excitation point), its amplitude per unit velocity. A finger's
+    // pluck, whose sound through a body grows (docs/design.md section 1, "The body"). Empty: the pulse.
+    std::optional<ForcePluck> push;
     // The dropped modes' static compliance in series with the contact (docs/design.md section 5). Off,
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
@@ -130,6 +135,8 @@ public:
     void setInitialShape(double position, double amplitudeMetres);
 
     void pluckWithPulse(double velocity);  // RT: a force pulse at the excitation point; works while sounding
+    bool pushes() const { return push_.has_value(); }  // its pulse is DAFx-16's push (VoiceConfig::push)
+    bool pulsing() const { return pulseStep_ >= 0; }   // a pluck's pulse or push is running
     // RT: the string released from the triangular shape of the given amplitude (m) at the
     // excitation point: the paper's pluck (setInitialShape() without allocating). From rest only:
     // whatever the string was doing is replaced.
@@ -198,6 +205,8 @@ private:
     std::vector<double> block_;  // one host sample's internal samples
     long pulseSteps_ = 0;  // the pluck pulse's length
     double pluckForce_ = 0.0;
+    std::optional<ForcePluck> push_;  // the push's shape in time (VoiceConfig::push), amplitude 1
+    double pulseForce(long step) const;  // the pulse's force at a step, per newton of its peak
     long blowUps_ = 0;
     double runawayLimit_ = 1.0;
     double pickupCompliance_ = 0.0;

@@ -3,6 +3,7 @@
 
 #include "realtime/VoicePack.h"
 
+#include "physics/FactoryBodies.h"
 #include "physics/SpringLoadedModes.h"
 #include "realtime/PlayableStructure.h"
 
@@ -142,6 +143,30 @@ std::vector<Obstacle> instrumentObstacles(const InstrumentStructure& s, const Co
     return obstacles;
 }
 
+std::optional<ModalBody> instrumentBody(const InstrumentStructure& s)
+{
+    const int choice = std::clamp(static_cast<int>(s.body), 0, static_cast<int>(std::size(kBodyNames)) - 1);
+    if (choice == static_cast<int>(BodyChoice::none))
+        return std::nullopt;
+    auto body = factoryBody(kBodyNames[choice]);
+    const double tuning = std::clamp(s.bodyTuning, 0.25, 4.0), damping = std::clamp(s.bodyDamping, 0.0, 100.0);
+    for (auto& mode : body->modes)
+    {
+        mode.frequencyHz *= tuning;
+        mode.sigma *= tuning * damping;  // the loss factor stays, times the damping
+    }
+    return body;
+}
+
+ForcePluck instrumentPush(const InstrumentStructure& s)
+{
+    ForcePluck push;
+    push.width = 0.5 * instrumentString(s).lengthMetres;
+    push.amplitude = -kPushNewtons;
+    push.duration = kPushSeconds;
+    return push;
+}
+
 VoiceQuality instrumentQuality(const InstrumentStructure& s)
 {
     const auto settings =
@@ -176,6 +201,15 @@ VoiceConfig voiceConfig(const InstrumentStructure& structure, const StringParame
     config.keepEveryMode = true;
     config.ownDecimator = false;  // mixed at the internal rate, then decimated per channel
     config.secondPolarisation = instrumentSecondPolarisation(structure);
+    if (structure.pluck == PluckStyle::soft)
+        config.push = instrumentPush(structure);
+    if (auto body = instrumentBody(structure))
+    {
+        // The first pickup hears the body, the second the string's velocity at the pickup point.
+        config.body = std::move(body);
+        config.quantity = PickupQuantity::pressure;
+        config.secondPickupPosition = config.pickupPosition;
+    }
     return config;
 }
 
@@ -221,6 +255,27 @@ void allocateMixing(VoicePack& pack, const VoiceConfig& config, const ModalSolve
     pack.workerBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
     pack.workerSecondBlocks.assign(size_t(kSlots) * chunkSteps, 0.0);
 }
+
+// The output's scale, and the second pickup's gain relative to the first.
+void setOutputLevels(VoicePack& pack)
+{
+    const auto& structure = pack.structure;
+    auto pickupSine = [](double fraction) { return std::max(std::sin(std::numbers::pi * fraction), 0.02); };
+    const double sine = pickupSine(clampFraction(structure.pickupPosition));
+    if (structure.body != BodyChoice::none)
+    {
+        // The pressure (Pa) at full scale over kFullScalePascals; the string's velocity at the pickup
+        // at the displacement's level at 1 kHz (|v| = 2 pi f |u|): a tanpura's note then plays about
+        // as loud through the pickup, whose velocity is mostly its high partials, as without a body.
+        pack.outputScale = 1.0 / kFullScalePascals;
+        pack.secondPickupGain = kFullScalePascals * 120.0 / sine / (2.0 * std::numbers::pi * 1000.0);
+        return;
+    }
+    pack.outputScale = 120.0 / sine;
+    // The second pickup at the first's level by the same law (it sits further from the end, where
+    // the string moves more).
+    pack.secondPickupGain = sine / pickupSine(secondPickupFraction(structure.pickupPosition));
+}
 }  // namespace
 
 std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
@@ -251,12 +306,7 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
     pack->drawObstacle = drawingObstacle(config.obstacles, L);
     pack->oversampling = quality.oversampling;
     allocateMixing(*pack, config, solverConfig);
-    auto pickupSine = [](double fraction) { return std::max(std::sin(std::numbers::pi * fraction), 0.02); };
-    const double sine = pickupSine(clampFraction(structure.pickupPosition));
-    pack->outputScale = 120.0 / sine;
-    // The second pickup at the first's level by the same law (it sits further from the end, where
-    // the string moves more).
-    pack->secondPickupGain = sine / pickupSine(secondPickupFraction(structure.pickupPosition));
+    setOutputLevels(*pack);
     return pack;
 }
 

@@ -30,6 +30,15 @@ StringParameters instrumentString(const InstrumentStructure& s);
 std::optional<SecondPolarisation> instrumentSecondPolarisation(const InstrumentStructure& s);
 // M and the oversampling of the structure's quality at its host rate.
 VoiceQuality instrumentQuality(const InstrumentStructure& s);
+// The structure's body (FactoryBodies.h) with its tuning and damping, or none. OFF.
+std::optional<ModalBody> instrumentBody(const InstrumentStructure& s);
+// The soft pluck's push (PluckStyle::soft): DAFx-16's shape over kPushSeconds, spread over half the
+// string, kPushNewtons towards the obstacles at full velocity.
+ForcePluck instrumentPush(const InstrumentStructure& s);
+inline constexpr double kPushSeconds = 0.05;
+inline constexpr double kPushNewtons = 1.8;
+// Through a body, the radiated pressure (Pa) that plays at full scale.
+inline constexpr double kFullScalePascals = 0.03;
 
 // The right channel's pickup sits this fraction of the length further from the end than the
 // first pickup (at least 2 % of the length from either end): a second position weights the modes
