@@ -453,16 +453,24 @@ TEST_CASE("Through the body a tanpura string's sound grows after a soft pluck an
     CHECK(sharpPeak < 0.15);
 }
 
-TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in the one joined solver, to "
-          "rounding",
-          "[body]")
+namespace
 {
-    const Scene sa = loadSceneFile(test::resource("Scenes/tanpura-sa.json"));
-    const Scene pa = loadSceneFile(test::resource("Scenes/tanpura-pa.json"));
-    const int M = 150;
+// Two scenes' strings and bridges on the tanpura body, M modes each at 192 kHz: in one joined solver
+// and each in its own solver on a SharedBody, 7000 steps (36 ms, both strings on and off their
+// bridges many times). The largest difference of the first string's pickup, relative to its peak.
+struct SharedAgainstJoined
+{
+    double largest = 0.0, bridge = 0.0;
+    int pressingSteps = 0, mostEvaluations = 0;
+};
+
+SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M)
+{
     const double rate = 192000.0;
     auto configOf = [&](const Scene& s) {
-        return stringSolverConfig(s.string, s.obstacles, M, rate, s.pickup.position, PickupQuantity::displacement);
+        auto c = stringSolverConfig(s.string, s.obstacles, M, rate, s.pickup.position, PickupQuantity::displacement);
+        c.leaveOutOfReach = false;
+        return c;
     };
     const auto first = configOf(sa), second = configOf(pa);
     const auto pluckOf = [&](const Scene& s) {
@@ -474,7 +482,7 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     auto quiet = second;
     quiet.pickupWeights.clear();
     appendString(joinedConfig, quiet);
-    joinedConfig = withBody(joinedConfig, {&body, {1, 1}, 1.0});
+    joinedConfig = withBody(joinedConfig, {&body, std::vector<char>(joinedConfig.contacts.size(), 1), 1.0});
     ModalSolver joined(joinedConfig);
     auto initial = pluckOf(sa);
     for (const double q : pluckOf(pa))
@@ -482,36 +490,48 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     initial.resize(size_t(joinedConfig.modes.size()), 0.0);
     joined.setInitialDisplacement(initial);
 
-    auto pushable = second;  // a string a force can push (the refusal below)
-    pushable.excitationPosition = pa.excitation.position;
-    ModalSolver a(first), b(pushable);
+    ModalSolver a(first), b(second);
     a.setInitialDisplacement(pluckOf(sa));
     b.setInitialDisplacement(pluckOf(pa));
-    SharedBody shared(body, 1.0, {&a, &b});
+    SharedBody shared(body, 1.0, a.timeStep());
+    shared.check(a);
+    shared.check(b);
     ModalSolver* strings[] = {&a, &b};
-
-    // 7000 steps (36 ms, both strings on and off their bridges many times). A grazing contact is
-    // sensitive: rounding's differences grow (with one body mode: 1e-16 m by step 7442, 1e-14 m by
-    // 8153, 2.6e-8 m by 20000; with the whole body 2.6e-7 m by 20000; 2.4e-12 m uncoupled).
-    double peak = 0.0, largest = 0.0, bridge = 0.0;
-    int contacts = 0;
+    SharedAgainstJoined result;
+    double peak = 0.0;
     for (int n = 0; n < 7000; ++n)
     {
         joined.step();
-        REQUIRE(shared.step(strings, 2));
+        shared.step(strings, 2);
         peak = std::max(peak, std::abs(joined.pickup()));
-        largest = std::max(largest, std::abs(joined.pickup() - a.pickup()));
-        bridge = std::max(bridge, std::abs(shared.bridgeDisplacement()));
-        contacts += (a.contactForce(0) != 0.0) + (b.contactForce(0) != 0.0);
+        result.largest = std::max(result.largest, std::abs(joined.pickup() - a.pickup()));
+        result.bridge = std::max(result.bridge, std::abs(shared.bridgeDisplacement()));
+        result.pressingSteps += shared.lastBridgeForce() != 0.0;
+        result.mostEvaluations = std::max(result.mostEvaluations, shared.lastEvaluations());
     }
-    INFO("largest difference " << largest << " m of a peak of " << peak << " m; the bridge moved up to " << bridge
-                               << " m; " << contacts << " contact steps");
-    CHECK(contacts > 100);
-    CHECK(bridge > 1e-9);
-    CHECK(largest < 1e-9 * peak);
-    // A string pushed by an explicit force steps alone: the shared step refuses, nothing stepped.
-    const double before = a.pickup();
-    b.setExternalForce(1.0);
-    CHECK_FALSE(shared.step(strings, 2));
-    CHECK(a.pickup() == before);
+    result.largest /= peak;
+    return result;
+}
+}  // namespace
+
+TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in the one joined solver, to "
+          "rounding",
+          "[body]")
+{
+    // Point bridges (tanpura-sa and tanpura-pa), and a 23-point bridge beside a point (sitar-bridge and
+    // tanpura-pa). A grazing contact is sensitive: rounding's differences grow (tanpura-sa and -pa:
+    // with one body mode 1e-16 m by step 7442, 1e-14 m by 8153, 2.6e-8 m by 20000; with the whole
+    // body 2.6e-7 m by 20000; 2.4e-12 m uncoupled), so 7000 steps.
+    const Scene pa = loadSceneFile(test::resource("Scenes/tanpura-pa.json"));
+    for (const char* name : {"tanpura-sa.json", "sitar-bridge.json"})
+    {
+        const auto r = sharedAgainstJoined(loadSceneFile(test::resource(std::string("Scenes/") + name)), pa, 150);
+        INFO(name << " beside tanpura-pa: largest difference " << r.largest << " of the pickup's peak; the bridge "
+                  << "moved up to " << r.bridge << " m; " << r.pressingSteps << " steps pressing; at most "
+                  << r.mostEvaluations << " contact solves in a step");
+        CHECK(r.pressingSteps > 100);
+        CHECK(r.bridge > 1e-9);
+        CHECK(r.largest < 1e-9);
+        CHECK(r.mostEvaluations <= 8);
+    }
 }

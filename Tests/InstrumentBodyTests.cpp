@@ -127,3 +127,39 @@ TEST_CASE("Without a body the mix is ignored: the pickup plays bit for bit", "[i
     const auto mixed = tanpuraNote(BodyChoice::none, PluckStyle::sharp, 0.2, 0.3);
     CHECK(plain == mixed);
 }
+
+TEST_CASE("Through the body a note feels another: on rigid supports it does not, to the last bit",
+          "[instrument][body]")
+{
+    // C3 hard left and C7 hard right (the stereo width at 1), the pickup alone (the body's mix at 0):
+    // the left channel is C3's string. Through the shared body C7's string moves C3's bridge.
+    auto leftOfC3 = [](BodyChoice body, bool withC7) {
+        auto pack = buildVoicePack(tanpuraStructure(body, PluckStyle::sharp));
+        Instrument instrument;
+        InstrumentControls controls;
+        controls.bodyMix = 0.0;
+        controls.stereoWidth = 1.0;
+        instrument.setControls(controls);
+        instrument.install(pack.get(), nullptr);
+        instrument.settleControls();
+        instrument.noteOn(48, 0.8);
+        if (withC7)
+            instrument.noteOn(96, 0.8);
+        return playLeft(instrument, 0.3);
+    };
+    auto largestDifference = [](const std::vector<double>& a, const std::vector<double>& b) {
+        double largest = 0.0, peak = 0.0;
+        for (size_t n = 0; n < a.size(); ++n)
+        {
+            largest = std::max(largest, std::abs(a[n] - b[n]));
+            peak = std::max(peak, std::abs(a[n]));
+        }
+        return largest / peak;
+    };
+    const double coupled = largestDifference(leftOfC3(BodyChoice::tanpura, false), leftOfC3(BodyChoice::tanpura, true));
+    const double rigid = largestDifference(leftOfC3(BodyChoice::none, false), leftOfC3(BodyChoice::none, true));
+    INFO("C3's pickup with C7 beside it, against alone, relative to its peak: through the body " << coupled
+                                                                                               << ", rigid " << rigid);
+    CHECK(coupled > 1e-3);
+    CHECK(rigid == 0.0);
+}

@@ -57,6 +57,43 @@ void ModalSolver::finishStep(const ScalarContactSolution& solution)
     finishPairStep();
 }
 
+void ModalSolver::predictOnMovingBridge()
+{
+    state_.toSingle();
+    predictAtPoints();
+    lastIterations_ = 0;
+}
+
+double ModalSolver::solveOnMovingBridge(double before, double move)
+{
+    pressing_.clear();
+    if (P_ == 0)
+        return 0.0;
+    const int* rows = reach_.liveRows();
+    for (int k = 0; k < reach_.liveCount(); ++k)
+    {
+        const int j = rows[k];
+        s_[j] = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
+        b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.restoring(j) - move;
+    }
+    lastIterations_ += solveContacts();
+    double force = 0.0;
+    for (int k = 0; k < reach_.liveCount(); ++k)
+        if (const int j = rows[k]; slope_[j] != 0.0)
+        {
+            pressing_.push_back(j);
+            force += contacts_[j].weight * slope_[j];
+        }
+    return force;
+}
+
+void ModalSolver::finishOnMovingBridge()
+{
+    if (!pressing_.empty())
+        applyContactForces();
+    endSingleStep();
+}
+
 void ModalSolver::setExternalForce(double newtons)
 {
     if (newtons == 0.0 && externalForce_ != 0.0)

@@ -121,6 +121,15 @@ public:
     bool nextStepPasses() const { return !state_.pairable() || state_.layout() != ModalState::Layout::pairMiddle; }
     void prefetchPass() const { state_.prefetchPass(); }
     void finishStep(const ScalarContactSolution& solution);
+    // RT: step() in three parts around a bridge that moves (SharedBody): predictOnMovingBridge()
+    // predicts the step (one pass over the modes); solveOnMovingBridge(before, move), as many times as
+    // the caller needs, solves the contact with every obstacle raised by the bridge's displacement,
+    // `before` at n-1 and `before + move` at n+1, and returns sum_j w_j G_j (the points' forces on the
+    // bridge, N, pushing it down when > 0); finishOnMovingBridge() completes the step with the last
+    // solve. The energy-conserving method only, every point kept live (leaveOutOfReach off).
+    void predictOnMovingBridge();
+    double solveOnMovingBridge(double before, double move);
+    void finishOnMovingBridge();
 
     // RT: a point force (N) at the excitation position, applied explicitly from the next step on
     // (part of the prediction: q~ += (dt^2/mu) F phi_e) until set back to 0.
@@ -184,6 +193,8 @@ public:
     // Projection path only.
     int activeModeCount() const { return state_.activeCount(); }
     int contactCount() const { return P_; }
+    ContactMethod contactMethod() const { return method_; }
+    bool leavesOutOfReach() const { return reach_.enabled(); }
     // Points the contact solve takes this step: those within the string's reach (ContactReach).
     int livePointCount() const { return reach_.liveCount(); }
     bool pointLive(int j) const { return reach_.live(j); }

@@ -1,5 +1,6 @@
 #include "physics/SharedBody.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -7,42 +8,36 @@
 namespace jawari
 {
 
-SharedBody::SharedBody(const ModalBody& body, double coupling, const std::vector<ModalSolver*>& strings)
+SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
     : coupling_(coupling)
+    , dt_(timeStep)
 {
     validateBody(body);
-    if (strings.empty())
-        throw std::invalid_argument("a shared body needs strings");
-    dt_ = strings.front()->timeStep();
+    if (!(std::isfinite(coupling) && coupling >= 0.0) || !(timeStep > 0.0))
+        throw std::invalid_argument("a shared body needs a finite coupling >= 0 and a time step > 0");
     double inverseMass = 0.0;
     for (const auto& mode : body.modes)
     {
-        coefficients_.push_back(exactCoefficients(2.0 * std::numbers::pi * mode.frequencyHz, mode.sigma, dt_));
+        const double w = 2.0 * std::numbers::pi * mode.frequencyHz;
+        coefficients_.push_back(exactCoefficients(w, mode.sigma, dt_));
         push_.push_back(dt_ * dt_ * coupling / mode.massKg);
+        radiation_.push_back(mode.radiation);
         inverseMass += 1.0 / mode.massKg;
     }
+    beta_ = dt_ * dt_ * coupling * coupling * inverseMass;
     z_.assign(body.modes.size(), 0.0);
     zPrevious_ = z_;
     zNext_ = z_;
-    const double beta = dt_ * dt_ * coupling * coupling * inverseMass;
-    const auto n = Eigen::Index(strings.size());
-    Eigen::MatrixXd A(n, n);
-    std::vector<ContactPoint> points;
-    for (Eigen::Index i = 0; i < n; ++i)
-    {
-        const ModalSolver& s = *strings[size_t(i)];
-        if (s.contactCount() != 1 || s.timeStep() != dt_)
-            throw std::invalid_argument("a shared body's strings have one contact point each, at one time step");
-        points.push_back(s.contact(0));
-        weight_.push_back(s.contact(0).weight);
-    }
-    for (Eigen::Index i = 0; i < n; ++i)
-        for (Eigen::Index j = 0; j < n; ++j)
-            A(i, j) = beta * weight_[size_t(j)] + (i == j ? strings[size_t(i)]->contactSelfCoupling(0) : 0.0);
-    system_.prepare(points, A);
-    requests_.resize(size_t(n));
-    for (auto* v : {&s_, &b_, &r_, &slope_})
-        v->assign(size_t(n), 0.0);
+}
+
+void SharedBody::check(const ModalSolver& string) const
+{
+    if (string.timeStep() != dt_)
+        throw std::invalid_argument("a shared body's strings step at its time step");
+    if (string.contactCount() > 0
+        && (string.contactMethod() != ContactMethod::energyConserving || string.leavesOutOfReach()))
+        throw std::invalid_argument("a shared body's strings solve their contacts by the energy-conserving method, "
+                                    "every point kept live");
 }
 
 double SharedBody::bridgeDisplacement() const
@@ -53,12 +48,39 @@ double SharedBody::bridgeDisplacement() const
     return coupling_ * w;
 }
 
-bool SharedBody::step(ModalSolver* const* strings, int count)
+double SharedBody::radiation() const
 {
+    double p = 0.0;
+    for (size_t k = 0; k < z_.size(); ++k)
+        p += radiation_[k] * z_[k];
+    return p;
+}
+
+bool SharedBody::atRest() const
+{
+    return std::all_of(z_.begin(), z_.end(), [](double z) { return std::abs(z) < 1e-18; })
+           && std::all_of(zPrevious_.begin(), zPrevious_.end(), [](double z) { return std::abs(z) < 1e-18; });
+}
+
+void SharedBody::silence()
+{
+    std::fill(z_.begin(), z_.end(), 0.0);
+    std::fill(zPrevious_.begin(), zPrevious_.end(), 0.0);
+    force_ = 0.0;
+}
+
+// The residual of W = w~ + beta F(W) at one W: every string's contact solved with the bridge there.
+double SharedBody::evaluate(ModalSolver* const* strings, int count, double before, double bridge)
+{
+    ++evaluations_;
+    force_ = 0.0;
     for (int i = 0; i < count; ++i)
-        if (!strings[i]->nextStepWaits())
-            return false;
-    // The body's prediction, and the bridge's w^{n-1} and predicted w~.
+        force_ += strings[i]->solveOnMovingBridge(before, bridge - before);
+    return force_;
+}
+
+void SharedBody::step(ModalSolver* const* strings, int count)
+{
     double before = 0.0, predicted = 0.0;
     for (size_t k = 0; k < z_.size(); ++k)
     {
@@ -69,28 +91,35 @@ bool SharedBody::step(ModalSolver* const* strings, int count)
     before *= coupling_;
     predicted *= coupling_;
     for (int i = 0; i < count; ++i)
+        strings[i]->predictOnMovingBridge();
+    evaluations_ = 0;
+    // Secant on R(W) = W - w~ - beta F(W), from the bridge with last step's force and the fixed
+    // point's step after it. Stops when the bridge moves by less than rounding's share of it.
+    double w0 = predicted + beta_ * force_;
+    double r0 = w0 - predicted - beta_ * evaluate(strings, count, before, w0);
+    if (r0 != 0.0)
     {
-        strings[i]->beginStep(requests_[size_t(i)]);  // waits (checked above)
-        s_[size_t(i)] = requests_[size_t(i)].s + before;
-        b_[size_t(i)] = requests_[size_t(i)].b - (predicted - before);
+        double w1 = w0 - r0;
+        constexpr int kMostEvaluations = 16;
+        while (evaluations_ < kMostEvaluations)
+        {
+            const double r1 = w1 - predicted - beta_ * evaluate(strings, count, before, w1);
+            const double tolerance = 1e-14 * (std::abs(w1) + std::abs(predicted - before)) + 1e-30;
+            if (std::abs(r1) <= tolerance || r1 == r0)
+                break;
+            const double next = w1 - r1 * (w1 - w0) / (r1 - r0);
+            w0 = w1;
+            r0 = r1;
+            w1 = next;
+        }
     }
-    const int iterations = system_.solve(s_.data(), b_.data(), r_.data(), slope_.data());
-    force_ = 0.0;
     for (int i = 0; i < count; ++i)
-    {
-        ScalarContactSolution solution;
-        solution.r = r_[size_t(i)];
-        solution.slope = slope_[size_t(i)];
-        solution.iterations = iterations;
-        strings[i]->finishStep(solution);
-        force_ += weight_[size_t(i)] * slope_[size_t(i)];
-    }
+        strings[i]->finishOnMovingBridge();
     for (size_t k = 0; k < z_.size(); ++k)
     {
         zPrevious_[k] = z_[k];
         z_[k] = zNext_[k] + push_[k] * force_;
     }
-    return true;
 }
 
 }  // namespace jawari

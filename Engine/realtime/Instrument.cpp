@@ -113,6 +113,8 @@ void Instrument::mixStrings(const Sounding& sounding, int count, const MixStart&
     std::fill(pack_->mixRight.begin(), pack_->mixRight.begin() + internal, 0.0);
     for (int k = 0; k < sounding.count; ++k)
         mixString(sounding.slots[size_t(k)], sounding.blocks[size_t(k)], sounding.seconds[size_t(k)], count, start);
+    if (pack_->body)
+        mixBody(count, start);
 }
 
 // One string's chunk at the internal rate (block, and its second pickup's), panned and added into
@@ -133,11 +135,8 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
     const double outputScale = pack_->outputScale;
     const int os = pack_->oversampling;
     // Without a body the right channel hears the first pickup and the second mixed in with the width;
-    // with one, both hear the body's sound and the pickup's (the string's velocity) mixed by bodyMix,
-    // over the string's tuning ratio: both grow with the pitch at a given displacement (a pluck's
-    // energy grows as the tension), where the displacement alone does not.
-    const bool body = pack_->structure.body != BodyChoice::none;
-    const double pitchLevel = body ? 1.0 / std::max(s.ratio, 1e-3) : 1.0;
+    // with one, the string's pickup (its velocity) plays beside the body's sound (mixBody) by bodyMix.
+    const bool body = pack_->body != nullptr;
     const double secondShare = c.stereoWidth * pack_->secondPickupGain, firstShare = 1.0 - c.stereoWidth;
     const double gainEnd = controls_.gain();
     for (int n = 0; n < count; ++n)
@@ -149,16 +148,15 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
             if (s.fade > 0)
                 --s.fade;
         }
+        if (body)
+            g *= (1.0 - (start.bodyMix + (c.bodyMix - start.bodyMix) * (n + 1) / count)) * pack_->secondPickupGain;
         const double toLeft = panLeft * outputScale * g, toRight = panRight * outputScale * g;
         if (body)
         {
-            const double mix = start.bodyMix + (c.bodyMix - start.bodyMix) * (n + 1) / count;
-            const double radiated = mix * pitchLevel, picked = (1.0 - mix) * pack_->secondPickupGain * pitchLevel;
             for (int k = n * os; k < (n + 1) * os; ++k)
             {
-                const double v = radiated * block[k] + picked * second[k];
-                pack_->mixLeft[size_t(k)] += toLeft * v;
-                pack_->mixRight[size_t(k)] += toRight * v;
+                pack_->mixLeft[size_t(k)] += toLeft * block[k];
+                pack_->mixRight[size_t(k)] += toRight * block[k];
             }
             continue;
         }
@@ -174,6 +172,25 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
     s.peakEnergy = std::max(s.peakEnergy, e);
     if (!(e > kSilentFraction * s.peakEnergy) && !voice.pulsing())  // a push from rest starts at 0
         s.sounding = false;
+}
+
+// The body's radiated sound, in the centre, by the body's mix and the gain, both ramped per host sample.
+void Instrument::mixBody(int count, const MixStart& start)
+{
+    const auto& c = controls_.current();
+    const int os = pack_->oversampling;
+    const double gainEnd = controls_.gain(), centre = std::sqrt(0.5);
+    for (int n = 0; n < count; ++n)
+    {
+        const double g = start.gain + (gainEnd - start.gain) * (n + 1) / count;
+        const double mix = start.bodyMix + (c.bodyMix - start.bodyMix) * (n + 1) / count;
+        const double level = centre * pack_->outputScale * g * mix;
+        for (int k = n * os; k < (n + 1) * os; ++k)
+        {
+            pack_->mixLeft[size_t(k)] += level * pack_->bodyBlock[size_t(k)];
+            pack_->mixRight[size_t(k)] += level * pack_->bodyBlock[size_t(k)];
+        }
+    }
 }
 
 // The voice's solver statistics since the last chunk, into the instrument's.

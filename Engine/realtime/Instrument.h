@@ -138,6 +138,7 @@ private:
     Sounding soundingStrings();
     void stepStrings(Sounding& sounding, int samples);
     void stepWithWorker(Sounding& sounding, int samples);
+    void stepOnBody(Sounding& sounding, int samples);
     // Where the chunk's ramps start: the gain and the body's mix as the last chunk left them.
     struct MixStart
     {
@@ -145,6 +146,7 @@ private:
     };
     void mixStrings(const Sounding& sounding, int count, const MixStart& start);
     void mixString(int slot, const double* block, const double* second, int count, const MixStart& start);
+    void mixBody(int count, const MixStart& start);
     void takeStatistics(Voice& voice);
     void decimate(float* left, float* right, int count);
     void guard(float* left, float* right, int count);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 namespace jawari
@@ -15,13 +16,54 @@ static_assert(kSlots - 1 <= StringWorker::kMaxTasks, "the second core's tasks mu
 
 void Instrument::stepStrings(Sounding& s, int samples)
 {
-    if (scheduling_ == StringScheduling::bank)
+    if (pack_->body)
+        stepOnBody(s, samples);
+    else if (scheduling_ == StringScheduling::bank)
         bank_.process(s.voices.data(), s.blocks.data(), s.count, samples, s.seconds.data());
     else if (worker_ != nullptr && s.count >= 2 && worker_->idle())
         stepWithWorker(s, samples);
     else
         for (int k = 0; k < s.count; ++k)
             s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
+}
+
+// Every sounding string and the body in lockstep, one internal step at a time (SharedBody), on this
+// thread; the body's radiated pressure into the pack's body block. A body left ringing alone steps
+// until it is at rest.
+void Instrument::stepOnBody(Sounding& s, int samples)
+{
+    auto& body = *pack_->body;
+    const long steps = long(samples) * pack_->oversampling;
+    if (s.count == 0 && body.atRest())
+    {
+        std::fill(pack_->bodyBlock.begin(), pack_->bodyBlock.begin() + steps, 0.0);
+        pack_->bodyStreamStarted = false;
+        return;
+    }
+    const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
+    auto& stream = pack_->bodyStream;
+    if (!pack_->bodyStreamStarted)
+    {
+        stream.start(body.radiation());
+        pack_->bodyStreamStarted = true;
+    }
+    std::array<ModalSolver*, kSlots> solvers{};
+    for (long k = 0; k < steps; ++k)
+    {
+        for (int i = 0; i < s.count; ++i)
+            solvers[size_t(i)] = &s.voices[size_t(i)]->beginOnBody();
+        body.step(solvers.data(), s.count);
+        for (int i = 0; i < s.count; ++i)
+            s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
+        double p = stream.advance(body.radiation(), PickupQuantity::pressure, dt);
+        if (!std::isfinite(p))
+        {
+            body.silence();
+            stream = {};
+            p = 0.0;
+        }
+        pack_->bodyBlock[size_t(k)] = p;
+    }
 }
 
 // The worker takes the last strings and steps them itself, from the front of its share (a string it

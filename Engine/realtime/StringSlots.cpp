@@ -60,14 +60,17 @@ void StringSlots::start(int slot, int note, double pitch, double velocity, int c
     }
     retune(slot);
     v.cancelRelease();
+    // Through a body a pluck's energy follows the velocity at every pitch (its displacement over the
+    // tuning ratio: the energy goes as the tension times its square); on rigid supports its displacement.
+    const double scale = pack_->body ? 1.0 / std::max(s.ratio, 1e-3) : 1.0;
     if (fromRest && !v.pushes())
     {
-        v.pluckFromShape(kPluckMetresPerVelocity * velocity);
+        v.pluckFromShape(kPluckMetresPerVelocity * velocity * scale);
         ++activity_.notesStarted;
     }
     else
     {
-        v.pluckWithPulse(velocity);  // a soft pluck pushes from rest too
+        v.pluckWithPulse(velocity, scale);  // a soft pluck pushes from rest too
         if (fromRest)
             ++activity_.notesStarted;
         else

@@ -111,7 +111,8 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     }
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
         c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);
-    c.method = config.method;
+    c.method = config.movingBridge ? ContactMethod::energyConserving : config.method;
+    c.leaveOutOfReach = !config.movingBridge;
     c.pickupBandHz = config.staticPickupAboveNyquist && config.oversampling > 1 ? 0.5 * config.hostRateHz : 0.0;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
@@ -192,10 +193,10 @@ void Voice::setInitialShape(double position, double amplitudeMetres)
     raiseCeiling();
 }
 
-void Voice::pluckWithPulse(double velocity)
+void Voice::pluckWithPulse(double velocity, double scale)
 {
     // Scaled with the tuning (tension ~ ratio^2): the pulse moves the string as far at any pitch.
-    pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_ * ratio_ * ratio_;
+    pulsePeak_ = std::clamp(velocity, 0.0, 1.0) * pluckForce_ * ratio_ * ratio_ * scale;
     pulseStep_ = 0;
     runawayLimit_ = std::numeric_limits<double>::infinity();  // until the pulse is over (only NaN is caught)
 }
@@ -283,6 +284,17 @@ void Voice::beforeStep()
         secondPickup_.start(solver_.secondPickup());
         first_ = false;
     }
+}
+
+ModalSolver& Voice::beginOnBody()
+{
+    beforeStep();
+    return solver_;
+}
+
+double Voice::finishOnBody()
+{
+    return guarded(sampleAfterStep());
 }
 
 double Voice::pulseForce(long step) const

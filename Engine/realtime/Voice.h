@@ -73,6 +73,9 @@ struct VoiceConfig
     std::optional<ModalBody> body;
     std::vector<char> obstacleOnBody;
     double bodyCoupling = 1.0;
+    // Its obstacles stand on a body stepped beside it (SharedBody, the instrument's): the contacts
+    // take the energy-conserving method, every point kept live.
+    bool movingBridge = false;
 };
 
 // A voice's motion beyond its solver's: what Voice::takeMotionFrom() carries over to a voice of the
@@ -134,7 +137,8 @@ public:
     // held string's first sample (OfflineRender treats the reference's resampling the same way).
     void setInitialShape(double position, double amplitudeMetres);
 
-    void pluckWithPulse(double velocity);  // RT: a force pulse at the excitation point; works while sounding
+    // RT: a force pulse at the excitation point, its force times `scale`; works while sounding.
+    void pluckWithPulse(double velocity, double scale = 1.0);
     bool pushes() const { return push_.has_value(); }  // its pulse is DAFx-16's push (VoiceConfig::push)
     bool pulsing() const { return pulseStep_ >= 0; }   // a pluck's pulse or push is running
     // RT: the string released from the triangular shape of the given amplitude (m) at the
@@ -158,6 +162,10 @@ public:
     bool beginSample(ScalarContactRequest& request);
     double finishSample(const ScalarContactSolution* solution);
     double secondSample() const { return secondSample_; }  // RT: the second pickup's, of the last sample
+    // RT: one internal sample on a shared body (SharedBody::step between the two): the pulse's force
+    // set and the solver handed over, then the guarded sample.
+    ModalSolver& beginOnBody();
+    double finishOnBody();
 
     // RT: every string mode's frequency scaled by `ratio` from the configured string (the note's pitch:
     // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping

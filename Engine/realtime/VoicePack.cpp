@@ -203,12 +203,13 @@ VoiceConfig voiceConfig(const InstrumentStructure& structure, const StringParame
     config.secondPolarisation = instrumentSecondPolarisation(structure);
     if (structure.pluck == PluckStyle::soft)
         config.push = instrumentPush(structure);
-    if (auto body = instrumentBody(structure))
+    if (structure.body != BodyChoice::none)
     {
-        // The first pickup hears the body, the second the string's velocity at the pickup point.
-        config.body = std::move(body);
-        config.quantity = PickupQuantity::pressure;
-        config.secondPickupPosition = config.pickupPosition;
+        // The strings stand on the pack's shared body (SharedBody), their pickup the string's
+        // velocity (a magnetic pickup's reading) that the mix sets beside the body's sound.
+        config.movingBridge = true;
+        config.quantity = PickupQuantity::velocity;
+        config.secondPickupPosition.reset();
     }
     return config;
 }
@@ -307,6 +308,12 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
     pack->oversampling = quality.oversampling;
     allocateMixing(*pack, config, solverConfig);
     setOutputLevels(*pack);
+    if (auto body = instrumentBody(structure))
+    {
+        pack->body = std::make_unique<SharedBody>(*body, 1.0, solverConfig.timeStep);
+        pack->body->check(pack->voices.front()->solver());
+        pack->bodyBlock.assign(size_t(kChunkSamples) * size_t(pack->oversampling), 0.0);
+    }
     return pack;
 }
 

@@ -12,6 +12,7 @@
 #include "realtime/Quality.h"
 #include "realtime/StringRetuner.h"
 #include "realtime/Voice.h"
+#include "physics/SharedBody.h"
 
 #include <memory>
 #include <optional>
@@ -38,7 +39,7 @@ ForcePluck instrumentPush(const InstrumentStructure& s);
 inline constexpr double kPushSeconds = 0.05;
 inline constexpr double kPushNewtons = 1.8;
 // Through a body, the radiated pressure (Pa) that plays at full scale.
-inline constexpr double kFullScalePascals = 0.03;
+inline constexpr double kFullScalePascals = 0.025;
 
 // The right channel's pickup sits this fraction of the length further from the end than the
 // first pickup (at least 2 % of the length from either end): a second position weights the modes
@@ -68,7 +69,9 @@ struct VoicePack
     // Output units per metre at the pickup: 120 / sin(pi x_pickup / L), so a 1.5 mm pluck peaks
     // near -15 dBFS wherever the pickup is (the drone's four strings at half that each).
     double outputScale = 120.0;
-    double secondPickupGain = 1.0;  // the second pickup's level matched to the first's (their sines' ratio)
+    // The second pickup's level matched to the first's (their sines' ratio); through a body, the
+    // pickup's (the string's velocity) against the body's.
+    double secondPickupGain = 1.0;
     // The strings are mixed at the internal rate and decimated once per channel (the decimator is
     // linear): the two decimators and the chunk's internal-rate buffers (kChunkSamples host
     // samples each).
@@ -81,6 +84,13 @@ struct VoicePack
     std::vector<std::unique_ptr<Voice>> backups;
     std::vector<double> workerBlocks, workerSecondBlocks;
     int oversampling = 1;
+    // Through a body: the one body every string stands on (SharedBody: the strings step in lockstep
+    // with it, on the audio thread), its radiated pressure's stream and one chunk of it at the
+    // internal rate. Null without a body.
+    std::unique_ptr<SharedBody> body;
+    VoiceMotion::PickupStream bodyStream;
+    bool bodyStreamStarted = false;
+    std::vector<double> bodyBlock;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
     // and the decimators' history.
