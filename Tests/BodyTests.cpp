@@ -91,24 +91,6 @@ Scene withTanpuraBody(Scene scene, PickupQuantity quantity)
     return scene;
 }
 
-// RMS of 20 ms frames; the frame of the largest, as its centre's time (s).
-double envelopePeakSeconds(const std::vector<double>& y, double rateHz)
-{
-    const size_t frame = size_t(0.02 * rateHz);
-    double best = -1.0, at = 0.0;
-    for (size_t i = 0; i + frame <= y.size(); i += frame)
-    {
-        double e = 0.0;
-        for (size_t n = i; n < i + frame; ++n)
-            e += y[n] * y[n];
-        if (e > best)
-        {
-            best = e;
-            at = (double(i) + 0.5 * double(frame)) / rateHz;
-        }
-    }
-    return at;
-}
 
 // The scene's reference over 1e5 steps (0.05 s at 2 MHz) with its energy log: the largest drift from
 // the initial energy and the largest rise between log rows, both relative to it.
@@ -227,8 +209,8 @@ TEST_CASE("Through the tanpura body DAFx-16's C3 string sounds louder over its f
     scene.pickup.quantity = PickupQuantity::bridgeForce;
     const auto force = renderScene(scene);
     const double rate = pressure.outputRateHz;
-    const double radiatedPeak = envelopePeakSeconds(pressure.output, rate);
-    const double forcePeak = envelopePeakSeconds(force.output, rate);
+    const double radiatedPeak = test::envelopePeakSeconds(pressure.output, rate);
+    const double forcePeak = test::envelopePeakSeconds(force.output, rate);
     INFO("radiated envelope peaks at " << radiatedPeak << " s, the bridge force's at " << forcePeak << " s");
     CHECK(radiatedPeak > 0.15);
     CHECK(forcePeak < 0.1);
@@ -441,12 +423,12 @@ TEST_CASE("Through the body a tanpura string's sound grows after a soft pluck an
     scene.excitation.force = soft;
     scene.excitation.position = soft.position;
     scene.excitation.amplitude = 0.0;  // from rest
-    const double softPeak = envelopePeakSeconds(renderScene(scene).output, 48000);
+    const double softPeak = test::envelopePeakSeconds(renderScene(scene).output, 48000);
     ForcePluck sharp = soft;
     sharp.width = 0.0;
     sharp.duration = 1.5e-3;
     scene.excitation.force = sharp;
-    const double sharpPeak = envelopePeakSeconds(renderScene(scene).output, 48000);
+    const double sharpPeak = test::envelopePeakSeconds(renderScene(scene).output, 48000);
     INFO("the radiated envelope peaks at " << softPeak << " s after the soft pluck, " << sharpPeak
                                            << " s after the sharp one");
     CHECK(softPeak > 0.3);

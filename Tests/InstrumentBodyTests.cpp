@@ -1,6 +1,7 @@
 // The instrument heard through its body (InstrumentStructure::body): the plugin's strings on the
 // tanpura body, their radiated sound, the soft pluck, the mix with the pickup.
 
+#include "TestSupport.h"
 #include "realtime/Instrument.h"
 #include "realtime/VoicePack.h"
 
@@ -14,38 +15,6 @@ using namespace jawari;
 
 namespace
 {
-std::vector<double> playLeft(Instrument& instrument, double seconds, double rate = 48000.0, int block = 256)
-{
-    std::vector<double> out;
-    std::vector<float> l(static_cast<size_t>(block)), r(static_cast<size_t>(block));
-    const long total = std::lround(seconds * rate);
-    for (long n = 0; n < total; n += block)
-    {
-        const int count = int(std::min<long>(block, total - n));
-        instrument.render(l.data(), r.data(), count);
-        out.insert(out.end(), l.begin(), l.begin() + count);
-    }
-    return out;
-}
-
-double peakFrameSeconds(const std::vector<double>& y, double rateHz)
-{
-    const size_t frame = size_t(0.02 * rateHz);
-    double best = -1.0, at = 0.0;
-    for (size_t i = 0; i + frame <= y.size(); i += frame)
-    {
-        double e = 0.0;
-        for (size_t n = i; n < i + frame; ++n)
-            e += y[n] * y[n];
-        if (e > best)
-        {
-            best = e;
-            at = (double(i) + 0.5 * double(frame)) / rateHz;
-        }
-    }
-    return at;
-}
-
 double rms(const std::vector<double>& y)
 {
     double s = 0.0;
@@ -77,7 +46,7 @@ std::vector<double> tanpuraNote(BodyChoice body, PluckStyle pluck, double mix, d
     instrument.install(pack.get(), nullptr);
     instrument.settleControls();
     instrument.noteOn(48, 0.8);
-    return playLeft(instrument, seconds);
+    return test::playLeft(instrument, seconds);
 }
 
 TEST_CASE("Through the tanpura body a softly plucked note grows for half a second, a sharply plucked one does "
@@ -87,9 +56,9 @@ TEST_CASE("Through the tanpura body a softly plucked note grows for half a secon
     // The soft pluck is DAFx-16's push; its sound reaches the listener as the bridge wakes the high
     // partials the body radiates. Measured: 0.75 s soft, 0.03 s sharp; on rigid supports the
     // pickup's envelope peaks at 0.05 s after the same push.
-    const double soft = peakFrameSeconds(tanpuraNote(BodyChoice::tanpura, PluckStyle::soft, 1.0), 48000);
-    const double sharp = peakFrameSeconds(tanpuraNote(BodyChoice::tanpura, PluckStyle::sharp, 1.0), 48000);
-    const double rigid = peakFrameSeconds(tanpuraNote(BodyChoice::none, PluckStyle::soft, 1.0), 48000);
+    const double soft = test::envelopePeakSeconds(tanpuraNote(BodyChoice::tanpura, PluckStyle::soft, 1.0), 48000);
+    const double sharp = test::envelopePeakSeconds(tanpuraNote(BodyChoice::tanpura, PluckStyle::sharp, 1.0), 48000);
+    const double rigid = test::envelopePeakSeconds(tanpuraNote(BodyChoice::none, PluckStyle::soft, 1.0), 48000);
     INFO("the envelope peaks at " << soft << " s soft, " << sharp << " s sharp, " << rigid << " s on rigid supports");
     CHECK(soft > 0.3);
     CHECK(sharp < 0.1);
@@ -145,7 +114,7 @@ TEST_CASE("Through the body a note feels another: on rigid supports it does not,
         instrument.noteOn(48, 0.8);
         if (withC7)
             instrument.noteOn(96, 0.8);
-        return playLeft(instrument, 0.3);
+        return test::playLeft(instrument, 0.3);
     };
     auto largestDifference = [](const std::vector<double>& a, const std::vector<double>& b) {
         double largest = 0.0, peak = 0.0;

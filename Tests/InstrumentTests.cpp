@@ -20,16 +20,7 @@ namespace
 // Renders `seconds` of the instrument and returns the left channel.
 std::vector<double> play(Instrument& instrument, double seconds, double rate = 48000.0, int block = 256)
 {
-    std::vector<double> out;
-    std::vector<float> l(static_cast<size_t>(block)), r(static_cast<size_t>(block));
-    const long total = std::lround(seconds * rate);
-    for (long n = 0; n < total; n += block)
-    {
-        const int count = int(std::min<long>(block, total - n));
-        instrument.render(l.data(), r.data(), count);
-        out.insert(out.end(), l.begin(), l.begin() + count);
-    }
-    return out;
+    return test::playLeft(instrument, seconds, rate, block);
 }
 
 double largestStep(const std::vector<double>& y, size_t begin, size_t end)

@@ -18,6 +18,40 @@
 namespace jawari::test
 {
 
+// Renders `seconds` of the instrument in blocks and returns the left channel.
+inline std::vector<double> playLeft(Instrument& instrument, double seconds, double rate = 48000.0, int block = 256)
+{
+    std::vector<double> out;
+    std::vector<float> l(static_cast<size_t>(block)), r(static_cast<size_t>(block));
+    const long total = std::lround(seconds * rate);
+    for (long n = 0; n < total; n += block)
+    {
+        const int count = int(std::min<long>(block, total - n));
+        instrument.render(l.data(), r.data(), count);
+        out.insert(out.end(), l.begin(), l.begin() + count);
+    }
+    return out;
+}
+
+// RMS of 20 ms frames; the frame of the largest, as its centre's time (s).
+inline double envelopePeakSeconds(const std::vector<double>& y, double rateHz)
+{
+    const size_t frame = size_t(0.02 * rateHz);
+    double best = -1.0, at = 0.0;
+    for (size_t i = 0; i + frame <= y.size(); i += frame)
+    {
+        double e = 0.0;
+        for (size_t n = i; n < i + frame; ++n)
+            e += y[n] * y[n];
+        if (e > best)
+        {
+            best = e;
+            at = (double(i) + 0.5 * double(frame)) / rateHz;
+        }
+    }
+    return at;
+}
+
 inline std::string resource(const std::string& name)
 {
     return std::string(JAWARI_RESOURCES_DIR) + "/" + name;

@@ -126,7 +126,8 @@ public:
     // the caller needs, solves the contact with every obstacle raised by the bridge's displacement,
     // `before` at n-1 and `before + move` at n+1, and returns sum_j w_j G_j (the points' forces on the
     // bridge, N, pushing it down when > 0); finishOnMovingBridge() completes the step with the last
-    // solve. The energy-conserving method only, every point kept live (leaveOutOfReach off).
+    // solve. The energy-conserving method or the quadratic spline, every point kept live
+    // (leaveOutOfReach off).
     void predictOnMovingBridge();
     double solveOnMovingBridge(double before, double move);
     void finishOnMovingBridge();

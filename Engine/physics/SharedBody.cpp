@@ -1,9 +1,12 @@
 #include "physics/SharedBody.h"
 
+#include "physics/ModalKernels.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 namespace jawari
 {
@@ -18,42 +21,30 @@ SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
     double inverseMass = 0.0;
     for (const auto& mode : body.modes)
     {
-        const double w = 2.0 * std::numbers::pi * mode.frequencyHz;
-        coefficients_.push_back(exactCoefficients(w, mode.sigma, dt_));
+        const auto c = exactCoefficients(2.0 * std::numbers::pi * mode.frequencyHz, mode.sigma, dt_);
+        a_.push_back(c.a);
+        e_.push_back(c.e);
         push_.push_back(dt_ * dt_ * coupling / mode.massKg);
-        radiation_.push_back(mode.radiation);
+        kappa_.push_back(coupling);
+        weights_.push_back(mode.radiation);
+        radiationPush_ += mode.radiation * push_.back();
         inverseMass += 1.0 / mode.massKg;
     }
     beta_ = dt_ * dt_ * coupling * coupling * inverseMass;
     z_.assign(body.modes.size(), 0.0);
     zPrevious_ = z_;
-    zNext_ = z_;
 }
 
 void SharedBody::check(const ModalSolver& string) const
 {
     if (string.timeStep() != dt_)
         throw std::invalid_argument("a shared body's strings step at its time step");
+    const auto method = string.contactMethod();
     if (string.contactCount() > 0
-        && (string.contactMethod() != ContactMethod::energyConserving || string.leavesOutOfReach()))
-        throw std::invalid_argument("a shared body's strings solve their contacts by the energy-conserving method, "
-                                    "every point kept live");
-}
-
-double SharedBody::bridgeDisplacement() const
-{
-    double w = 0.0;
-    for (double z : z_)
-        w += z;
-    return coupling_ * w;
-}
-
-double SharedBody::radiation() const
-{
-    double p = 0.0;
-    for (size_t k = 0; k < z_.size(); ++k)
-        p += radiation_[k] * z_[k];
-    return p;
+        && ((method != ContactMethod::energyConserving && method != ContactMethod::quadraticSpline)
+            || string.leavesOutOfReach()))
+        throw std::invalid_argument("a shared body's strings solve their contacts by the energy-conserving method "
+                                    "or the quadratic spline, every point kept live");
 }
 
 bool SharedBody::atRest() const
@@ -66,7 +57,7 @@ void SharedBody::silence()
 {
     std::fill(z_.begin(), z_.end(), 0.0);
     std::fill(zPrevious_.begin(), zPrevious_.end(), 0.0);
-    force_ = 0.0;
+    force_ = bridge_ = bridgeBefore_ = radiation_ = 0.0;
 }
 
 // The residual of W = w~ + beta F(W) at one W: every string's contact solved with the bridge there.
@@ -79,47 +70,50 @@ double SharedBody::evaluate(ModalSolver* const* strings, int count, double befor
     return force_;
 }
 
+// W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the bridge with last step's force and the
+// last step's slope R'. Stops when the residual is rounding's share of the bridge's motion; the
+// strings keep the solve of the last W, and force_ is its F.
+double SharedBody::solveBridge(ModalSolver* const* strings, int count, double before, double predicted)
+{
+    double w0 = predicted + beta_ * force_;
+    double r0 = w0 - predicted - beta_ * evaluate(strings, count, before, w0);
+    if (r0 == 0.0)
+        return w0;
+    double w1 = w0 - r0 / slope_;
+    constexpr int kMostEvaluations = 16;
+    while (true)
+    {
+        const double r1 = w1 - predicted - beta_ * evaluate(strings, count, before, w1);
+        const double tolerance = 1e-14 * (std::abs(w1) + std::abs(predicted - before)) + 1e-30;
+        if (std::abs(r1) <= tolerance || r1 == r0 || evaluations_ >= kMostEvaluations)
+            return w1;
+        const double slope = (r1 - r0) / (w1 - w0);
+        if (std::isfinite(slope) && slope > 0.5)  // R' = 1 + beta F' >= 1 where F is monotone
+            slope_ = slope;
+        w0 = w1;
+        r0 = r1;
+        w1 -= r1 / slope_;
+    }
+}
+
 void SharedBody::step(ModalSolver* const* strings, int count)
 {
-    double before = 0.0, predicted = 0.0;
-    for (size_t k = 0; k < z_.size(); ++k)
-    {
-        zNext_[k] = coefficients_[k].a * z_[k] - coefficients_[k].e * zPrevious_[k];
-        before += zPrevious_[k];
-        predicted += zNext_[k];
-    }
-    before *= coupling_;
-    predicted *= coupling_;
+    // z~ over z^{n-1}, with its bridge reading and its radiation's, in one pass.
+    double radiated = 0.0;
+    const int K = static_cast<int>(z_.size());
+    const double predicted = kernels::predict(a_.data(), e_.data(), z_.data(), zPrevious_.data(), kappa_.data(),
+                                              weights_.data(), K, K, radiated);
     for (int i = 0; i < count; ++i)
         strings[i]->predictOnMovingBridge();
     evaluations_ = 0;
-    // Secant on R(W) = W - w~ - beta F(W), from the bridge with last step's force and the fixed
-    // point's step after it. Stops when the bridge moves by less than rounding's share of it.
-    double w0 = predicted + beta_ * force_;
-    double r0 = w0 - predicted - beta_ * evaluate(strings, count, before, w0);
-    if (r0 != 0.0)
-    {
-        double w1 = w0 - r0;
-        constexpr int kMostEvaluations = 16;
-        while (evaluations_ < kMostEvaluations)
-        {
-            const double r1 = w1 - predicted - beta_ * evaluate(strings, count, before, w1);
-            const double tolerance = 1e-14 * (std::abs(w1) + std::abs(predicted - before)) + 1e-30;
-            if (std::abs(r1) <= tolerance || r1 == r0)
-                break;
-            const double next = w1 - r1 * (w1 - w0) / (r1 - r0);
-            w0 = w1;
-            r0 = r1;
-            w1 = next;
-        }
-    }
+    solveBridge(strings, count, bridgeBefore_, predicted);
     for (int i = 0; i < count; ++i)
         strings[i]->finishOnMovingBridge();
-    for (size_t k = 0; k < z_.size(); ++k)
-    {
-        zPrevious_[k] = z_[k];
-        z_[k] = zNext_[k] + push_[k] * force_;
-    }
+    kernels::axpy(force_, push_.data(), zPrevious_.data(), K);
+    std::swap(z_, zPrevious_);
+    bridgeBefore_ = bridge_;
+    bridge_ = predicted + beta_ * force_;
+    radiation_ = radiated + radiationPush_ * force_;
 }
 
 }  // namespace jawari

@@ -25,7 +25,8 @@ namespace jawari
 class SharedBody
 {
 public:
-    // OFF: the body under `strings` (energy-conserving contacts, every point kept live), at rest,
+    // OFF: the body under strings whose contacts are energy-conserving or quadratic splines, every point
+    // kept live (check()), at rest,
     // coupled by `coupling`, at their common time step; its radiation read by radiationWeights.
     SharedBody(const ModalBody& body, double coupling, double timeStep);
     // OFF: checks that a string can stand on the body (throws std::invalid_argument naming why not).
@@ -35,20 +36,24 @@ public:
     // prediction.
     void step(ModalSolver* const* strings, int count);
 
-    double bridgeDisplacement() const;                 // RT: w^n (m)
+    double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, pushing the body down)
-    double radiation() const;                          // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
+    double radiation() const { return radiation_; }  // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
     bool atRest() const;                               // RT: every mode below 1e-18 m
     void silence();                                    // RT: every mode at rest
 
 private:
     double evaluate(ModalSolver* const* strings, int count, double before, double bridge);
+    double solveBridge(ModalSolver* const* strings, int count, double before, double predicted);
 
-    std::vector<ExactModeCoefficients> coefficients_;
-    std::vector<double> push_, radiation_;  // dt^2 kappa / m_k, c_k
-    std::vector<double> z_, zPrevious_, zNext_;
-    double coupling_ = 1.0, dt_ = 0.0, beta_ = 0.0, force_ = 0.0;
+    // Per mode: the exact update's a and e, dt^2 kappa / m_k, kappa (the bridge reads sum kappa z_k),
+    // c_k; z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
+    std::vector<double> a_, e_, push_, kappa_, weights_;
+    std::vector<double> z_, zPrevious_;
+    double coupling_ = 1.0, dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
+    double bridge_ = 0.0, bridgeBefore_ = 0.0, radiation_ = 0.0;  // w^n, w^{n-1}, sum c_k z_k^n
+    double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0;
 };
 

@@ -111,7 +111,11 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     }
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
         c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);
-    c.method = config.movingBridge ? ContactMethod::energyConserving : config.method;
+    // On a moving bridge the contact is solved again for each bridge displacement tried: the methods
+    // that solve it from the step's s and b (ModalSolver::solveOnMovingBridge).
+    const bool solvesFromRequest =
+        config.method == ContactMethod::energyConserving || config.method == ContactMethod::quadraticSpline;
+    c.method = config.movingBridge && !solvesFromRequest ? ContactMethod::energyConserving : config.method;
     c.leaveOutOfReach = !config.movingBridge;
     c.pickupBandHz = config.staticPickupAboveNyquist && config.oversampling > 1 ? 0.5 * config.hostRateHz : 0.0;
     c.excitationPosition = config.excitationPosition;
