@@ -45,6 +45,42 @@ void joinBody(ModalSolverConfig& c, const VoiceConfig& config, const std::vector
         c.pickupWeights = radiationWeights(*config.body, stringModes, config.string.linearDensity);
 }
 
+// The dropped modes' static compliance at the contact points (VoiceConfig::residualCompliance), and
+// its loss share.
+void addResidualCompliance(ModalSolverConfig& c, const VoiceConfig& config)
+{
+    const auto& s = config.string;
+    const int M = config.modes;
+    // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is
+    // below 1e-5 of the whole even for a flexible string (terms ~ 1/p^2; ~1/p^4 when stiff).
+    const int P = static_cast<int>(c.contacts.size());
+    const int last = M + 50000;
+    const auto dropped = buildModalTable(s, last);
+    c.contactCompliance.assign(size_t(P) * P, 0.0);
+    std::vector<double> shape(P);
+    for (int p = M + 1; p <= last; ++p)
+    {
+        const double w = dropped.omega[p - 1];
+        const double inverseStiffness = 1.0 / (s.linearDensity * w * w);
+        for (int i = 0; i < P; ++i)
+            shape[i] = modeShape(s.lengthMetres, p, c.contacts[i].position);
+        for (int i = 0; i < P; ++i)
+            for (int j = 0; j < P; ++j)
+                c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
+    }
+    c.complianceLoss = config.residualComplianceLoss.value_or(
+        residualComplianceLoss(dropped.sigma[size_t(M)], dropped.frequencyHz.front()));
+}
+
+// The contact method: a moving bridge's contact is solved again for each bridge displacement tried,
+// by the methods that solve it from the step's s and b (ModalSolver::solveOnMovingBridge).
+ContactMethod voiceContactMethod(const VoiceConfig& config)
+{
+    const bool solvesFromRequest =
+        config.method == ContactMethod::energyConserving || config.method == ContactMethod::quadraticSpline;
+    return config.movingBridge && !solvesFromRequest ? ContactMethod::energyConserving : config.method;
+}
+
 int shapeModes(const ModalSolverConfig& c)
 {
     return c.shapeToModes.empty() ? c.modes.size() : static_cast<int>(c.shapeToModes.size()) / c.modes.size();
@@ -88,34 +124,10 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     if (config.reach)
         keepReachable(c.contacts, onBody, config.reach);
     if (config.residualCompliance && !c.contacts.empty())
-    {
-        // C_ij = sum_{p > M} phi_p(x_i) phi_p(x_j) / (mu w_p^2), summed far enough that the tail is
-        // below 1e-5 of the whole even for a flexible string (terms ~ 1/p^2; ~1/p^4 when stiff).
-        const int P = static_cast<int>(c.contacts.size());
-        const int last = M + 50000;
-        const auto dropped = buildModalTable(s, last);
-        c.contactCompliance.assign(size_t(P) * P, 0.0);
-        std::vector<double> shape(P);
-        for (int p = M + 1; p <= last; ++p)
-        {
-            const double w = dropped.omega[p - 1];
-            const double inverseStiffness = 1.0 / (s.linearDensity * w * w);
-            for (int i = 0; i < P; ++i)
-                shape[i] = modeShape(s.lengthMetres, p, c.contacts[i].position);
-            for (int i = 0; i < P; ++i)
-                for (int j = 0; j < P; ++j)
-                    c.contactCompliance[size_t(i) * P + j] += shape[i] * shape[j] * inverseStiffness;
-        }
-        c.complianceLoss = config.residualComplianceLoss.value_or(
-            residualComplianceLoss(dropped.sigma[size_t(M)], dropped.frequencyHz.front()));
-    }
+        addResidualCompliance(c, config);
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
         c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);
-    // On a moving bridge the contact is solved again for each bridge displacement tried: the methods
-    // that solve it from the step's s and b (ModalSolver::solveOnMovingBridge).
-    const bool solvesFromRequest =
-        config.method == ContactMethod::energyConserving || config.method == ContactMethod::quadraticSpline;
-    c.method = config.movingBridge && !solvesFromRequest ? ContactMethod::energyConserving : config.method;
+    c.method = voiceContactMethod(config);
     c.leaveOutOfReach = !config.movingBridge;
     c.pickupBandHz = config.staticPickupAboveNyquist && config.oversampling > 1 ? 0.5 * config.hostRateHz : 0.0;
     c.excitationPosition = config.excitationPosition;
