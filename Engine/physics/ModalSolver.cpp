@@ -57,11 +57,21 @@ void ModalSolver::finishStep(const ScalarContactSolution& solution)
     finishPairStep();
 }
 
+// A string with one point or none and no explicit force takes the paired path (two steps per pass
+// over the modes), as step() does: the point's predicted displacement is then pairU_.
 void ModalSolver::predictOnMovingBridge()
 {
+    lastIterations_ = 0;
+    pairedOnBridge_ = state_.pairable() && externalForce_ == 0.0;
+    if (pairedOnBridge_)
+    {
+        state_.beginPairs();
+        predictPairStep();
+        lastPenetration_ = -std::numeric_limits<double>::infinity();
+        return;
+    }
     state_.toSingle();
     predictAtPoints();
-    lastIterations_ = 0;
 }
 
 double ModalSolver::solveOnMovingBridge(double before, double move)
@@ -73,8 +83,9 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
     for (int k = 0; k < reach_.liveCount(); ++k)
     {
         const int j = rows[k];
+        const double predicted = pairedOnBridge_ ? pairU_ : uTilde_[j];
         s_[j] = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
-        b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.restoring(j) - move;
+        b_[j] = predicted - uCPrev_[j] - compliance_.restoring(j) - move;
     }
     lastIterations_ += solveContacts();
     double force = 0.0;
@@ -89,6 +100,11 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
 
 void ModalSolver::finishOnMovingBridge()
 {
+    if (pairedOnBridge_)
+    {
+        finishPairStep();
+        return;
+    }
     if (!pressing_.empty())
         applyContactForces();
     endSingleStep();

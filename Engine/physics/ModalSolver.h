@@ -293,6 +293,7 @@ private:
     Eigen::MatrixXd pointCoupling_;    // (A + C W) W^{-1}: response at the points per newton
     ResidualCompliance compliance_;
     ContactMethod method_ = ContactMethod::energyConserving;
+    bool pairedOnBridge_ = false;  // the step on a moving bridge takes the paired path
     ContactSystem system_;  // the energy-conserving Newton
     QuadratisedContact quadratised_;
     std::vector<ContactSpline> splines_;  // per point, the quadratic-spline method's potential
