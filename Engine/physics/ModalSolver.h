@@ -112,11 +112,6 @@ public:
     // has predicted the step, `request` holds the point's scalar equation, and finishStep() takes
     // its solution and completes the step.
     bool beginStep(ScalarContactRequest& request);
-    // RT: whether the next beginStep() waits for its point's solution (returns true).
-    bool nextStepWaits() const
-    {
-        return state_.pairable() && externalForce_ == 0.0 && P_ == 1 && method_ == ContactMethod::energyConserving;
-    }
     // RT: whether the next step runs a pass over the modes, and the cache asked for its arrays.
     bool nextStepPasses() const { return !state_.pairable() || state_.layout() != ModalState::Layout::pairMiddle; }
     void prefetchPass() const { state_.prefetchPass(); }
@@ -206,8 +201,6 @@ public:
     double pickup() const { return pickups_[0].value; }              // RT: sum h_p q_p^n
     double secondPickup() const { return pickups_[1].value; }        // RT: the second pickup's, 0 without one
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
-    // The contact equation's own coefficient at point j, A_jj (m per unit slope: ContactSystem.h).
-    double contactSelfCoupling(int j) const { return system_.coupling()(j, j); }
     // RT: the force (N) the last step's contact put on the string at point j, -w_j G_j (> 0 pushes it up).
     double contactForce(int j) const { return -contacts_[size_t(j)].weight * slope_[size_t(j)]; }
     // RT: max_j g_j - u_j^n (m) over the unilateral points

@@ -12,8 +12,7 @@ namespace jawari
 {
 
 SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
-    : coupling_(coupling)
-    , dt_(timeStep)
+    : dt_(timeStep)
 {
     validateBody(body);
     if (!(std::isfinite(coupling) && coupling >= 0.0) || !(timeStep > 0.0))

@@ -25,9 +25,9 @@ namespace jawari
 class SharedBody
 {
 public:
-    // OFF: the body under strings whose contacts are energy-conserving or quadratic splines, every point
-    // kept live (check()), at rest,
-    // coupled by `coupling`, at their common time step; its radiation read by radiationWeights.
+    // OFF: the body at rest, coupled by `coupling` (0: nothing reaches it), at its strings' common time
+    // step; they solve their contacts by the energy-conserving method or the quadratic spline, every
+    // point kept live (check()).
     SharedBody(const ModalBody& body, double coupling, double timeStep);
     // OFF: checks that a string can stand on the body (throws std::invalid_argument naming why not).
     void check(const ModalSolver& string) const;
@@ -51,7 +51,7 @@ private:
     // c_k; z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
     std::vector<double> a_, e_, push_, kappa_, weights_;
     std::vector<double> z_, zPrevious_;
-    double coupling_ = 1.0, dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
+    double dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0, radiation_ = 0.0;  // w^n, w^{n-1}, sum c_k z_k^n
     double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0;

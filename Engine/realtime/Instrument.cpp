@@ -14,6 +14,12 @@ namespace jawari
 namespace
 {
 constexpr double kSilentFraction = 1e-10;  // a string below -100 dB of its peak energy stops sounding
+
+// A chunk's ramp from `from` to `to`, at the end of its host sample n of count.
+double ramp(double from, double to, int n, int count)
+{
+    return from + (to - from) * (n + 1) / count;
+}
 }  // namespace
 
 void Instrument::install(VoicePack* pack, VoicePack* previous)
@@ -135,13 +141,15 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
     const double outputScale = pack_->outputScale;
     const int os = pack_->oversampling;
     // Without a body the right channel hears the first pickup and the second mixed in with the width;
-    // with one, the string's pickup (its velocity) plays beside the body's sound (mixBody) by bodyMix.
+    // with one, both channels hear the string's pickup (its velocity) beside the body's sound (mixBody),
+    // by bodyMix.
     const bool body = pack_->body != nullptr;
-    const double secondShare = c.stereoWidth * pack_->secondPickupGain, firstShare = 1.0 - c.stereoWidth;
+    const double secondShare = body ? 0.0 : c.stereoWidth * pack_->secondPickupGain;
+    const double firstShare = body ? 1.0 : 1.0 - c.stereoWidth;
     const double gainEnd = controls_.gain();
     for (int n = 0; n < count; ++n)
     {
-        double g = start.gain + (gainEnd - start.gain) * (n + 1) / count;
+        double g = ramp(start.gain, gainEnd, n, count);
         if (s.fade >= 0)
         {
             g *= double(s.fade) / strings_.fadeLength();
@@ -149,17 +157,8 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
                 --s.fade;
         }
         if (body)
-            g *= (1.0 - (start.bodyMix + (c.bodyMix - start.bodyMix) * (n + 1) / count)) * pack_->secondPickupGain;
+            g *= (1.0 - ramp(start.bodyMix, c.bodyMix, n, count)) * pack_->secondPickupGain;
         const double toLeft = panLeft * outputScale * g, toRight = panRight * outputScale * g;
-        if (body)
-        {
-            for (int k = n * os; k < (n + 1) * os; ++k)
-            {
-                pack_->mixLeft[size_t(k)] += toLeft * block[k];
-                pack_->mixRight[size_t(k)] += toRight * block[k];
-            }
-            continue;
-        }
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
             pack_->mixLeft[size_t(k)] += toLeft * block[k];
@@ -182,9 +181,8 @@ void Instrument::mixBody(int count, const MixStart& start)
     const double gainEnd = controls_.gain(), centre = std::sqrt(0.5);
     for (int n = 0; n < count; ++n)
     {
-        const double g = start.gain + (gainEnd - start.gain) * (n + 1) / count;
-        const double mix = start.bodyMix + (c.bodyMix - start.bodyMix) * (n + 1) / count;
-        const double level = centre * pack_->outputScale * g * mix;
+        const double level =
+            centre * pack_->outputScale * ramp(start.gain, gainEnd, n, count) * ramp(start.bodyMix, c.bodyMix, n, count);
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
             pack_->mixLeft[size_t(k)] += level * pack_->bodyBlock[size_t(k)];

@@ -84,8 +84,8 @@ struct InstrumentStructure
     double threadStiffness = threadStiffnessForWidth(kThreadWidthMetres);  // N/m, the damped thread's
     double threadDamping = threadDampingForStiffness(threadStiffness);       // kg/s, the damped thread's
     PluckStyle pluck = PluckStyle::sharp;
-    // The body under every obstacle, its modes in each string's solver (each string on its own copy),
-    // heard through its radiated sound (InstrumentControls::bodyMix). None: rigid supports.
+    // The body under every obstacle of every string, one for all (SharedBody), heard through its
+    // radiated sound (InstrumentControls::bodyMix). None: rigid supports.
     BodyChoice body = BodyChoice::none;
     double bodyTuning = 1.0;   // scales every body mode's frequency (a smaller body sounds higher)
     double bodyDamping = 1.0;  // scales every body mode's damping

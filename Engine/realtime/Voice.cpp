@@ -35,14 +35,16 @@ void keepReachable(std::vector<ContactPoint>& contacts, std::vector<char>& onBod
     onBody.resize(kept);
 }
 
-// The voice's body after its string's modes (withBody); the pressure pickup reads it, one listener,
-// and a second pickup the string's velocity at its point.
+// The voice's body after its string's modes (withBody); the pressure pickup reads it, one listener.
 void joinBody(ModalSolverConfig& c, const VoiceConfig& config, const std::vector<char>& onBody)
 {
     const int stringModes = c.modes.size();
     c = withBody(c, {&*config.body, onBody, config.bodyCoupling, true});
     if (config.quantity == PickupQuantity::pressure)
+    {
         c.pickupWeights = radiationWeights(*config.body, stringModes, config.string.linearDensity);
+        c.secondPickupWeights.clear();
+    }
 }
 
 // The dropped modes' static compliance at the contact points (VoiceConfig::residualCompliance), and

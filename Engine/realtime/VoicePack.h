@@ -6,13 +6,13 @@
 
 #include "physics/ContactLaw.h"
 #include "physics/Obstacle.h"
+#include "physics/SharedBody.h"
 #include "physics/StringModel.h"
 #include "realtime/Decimator.h"
 #include "realtime/InstrumentSettings.h"
 #include "realtime/Quality.h"
 #include "realtime/StringRetuner.h"
 #include "realtime/Voice.h"
-#include "physics/SharedBody.h"
 
 #include <memory>
 #include <optional>
