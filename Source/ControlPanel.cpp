@@ -109,12 +109,21 @@ const ControlSpec kControls[] = {
     {"Body", ids::bodyMix, "Mix", "With a body: its radiated sound at 100 %, the pickup (the string's velocity) at 0."},
     {"Body", ids::bodyTuning, "Tuning", "Scales every body mode's frequency: a smaller body sounds higher."},
     {"Body", ids::bodyDamping, "Damping", "Scales every body mode's damping."},
+    {"Sympathetic", ids::sympathetic, "Strings",
+     "The sitar's sympathetic strings (taraf): never plucked, they ring when the body moves them at their pitch. "
+     "Only with a body."},
+    {"Sympathetic", ids::sympatheticScale, "Tuning",
+     "The thaat they are tuned to, upwards from the Pa below the upper Sa (the drone's Sa), or Sa and Pa alone."},
+    {"Sympathetic", ids::sympatheticIntonation, "Intonation",
+     "Just: pure intervals above Sa. Keyboard: the pitch the keyboard plays for each note (its Scala scale)."},
+    {"Sympathetic", ids::sympatheticDamping, "Damping", "Scales their damping: a cloth laid over them."},
+    {"Sympathetic", ids::sympatheticLevel, "Level", "Their share of the body's sound."},
 };
 static_assert(std::size(kControls) == kParameterCount);
 
 // The panels, row by row as the editor lays them out.
 const std::vector<std::vector<const char*>> kPanelRows = {
-    {"String", "Output"}, {"Obstacle", "Thread"}, {"Damping", "Quality"}, {"Drone", "Body"}, {"Drone tuning", "MIDI"}};
+    {"String", "Output"}, {"Obstacle", "Thread"}, {"Damping", "Quality"}, {"Drone", "Body"}, {"Drone tuning", "MIDI", "Sympathetic"}};
 
 ParameterControl::ParameterControl(juce::AudioProcessorValueTreeState& state, const char* id, const char* title,
                                    const char* tooltip)

@@ -239,6 +239,25 @@ void addBody(Layout& layout)
         number(ids::bodyDamping, "Body damping", skewed(0.25f, 4.0f, 1.0f), float(s.bodyDamping), asMultiplier(2)));
 }
 
+// The sitar's sympathetic strings on the body (SympatheticStrings.h), tuned from the drone's Sa.
+void addSympathetic(Layout& layout)
+{
+    const auto& c = kControlDefaults;
+    layout.add(std::make_unique<juce::AudioParameterInt>(juce::ParameterID{ids::sympathetic, 1}, "Sympathetic strings",
+                                                         0, kMaxSympatheticStrings,
+                                                         kStructureDefaults.sympatheticStrings));
+    juce::StringArray scales;
+    for (const char* name : kSympatheticScaleNames)
+        scales.add(name);
+    layout.add(choice(ids::sympatheticScale, "Sympathetic tuning", scales, static_cast<int>(c.sympatheticScale)));
+    layout.add(choice(ids::sympatheticIntonation, "Sympathetic intonation", juce::StringArray{"just", "keyboard"},
+                      static_cast<int>(c.sympatheticIntonation)));
+    layout.add(number(ids::sympatheticDamping, "Sympathetic damping", skewed(0.25f, 20.0f, 1.0f),
+                      float(c.sympatheticDamping), asMultiplier(2)));
+    layout.add(number(ids::sympatheticLevel, "Sympathetic level", Range(0.0f, 1.0f, 0.001f),
+                      float(c.sympatheticLevel), asPercent()));
+}
+
 int rounded(float value)
 {
     return static_cast<int>(std::lround(value));
@@ -277,6 +296,7 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
     layout.add(number(ids::threadDamping, "Thread damping", skewed(0.0f, 20.0f, 1.2f), float(s.threadDamping),
                       inUnit("kg/s", 2)));
     addBody(layout);
+    addSympathetic(layout);
     return layout;
 }
 
@@ -315,6 +335,7 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
     s.body = static_cast<BodyChoice>(std::clamp(rounded(get(ids::body)), 0, int(std::size(kBodyNames)) - 1));
     s.bodyTuning = get(ids::bodyTuning);
     s.bodyDamping = get(ids::bodyDamping);
+    s.sympatheticStrings = std::clamp(rounded(get(ids::sympathetic)), 0, kMaxSympatheticStrings);
     s.hostRateHz = hostRateHz;
     return s;
 }
@@ -344,6 +365,12 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.droneSaHz = get(ids::droneSaHz);
     c.stereoWidth = get(ids::stereoWidth);
     c.droneFineCents = {get(ids::droneFine1), get(ids::droneFine2), get(ids::droneFine3), get(ids::droneFine4)};
+    c.sympatheticScale =
+        static_cast<SympatheticScale>(std::clamp(rounded(get(ids::sympatheticScale)), 0, kSympatheticScaleCount - 1));
+    c.sympatheticIntonation = rounded(get(ids::sympatheticIntonation)) == 1 ? SympatheticIntonation::keyboard
+                                                                             : SympatheticIntonation::just;
+    c.sympatheticDamping = get(ids::sympatheticDamping);
+    c.sympatheticLevel = get(ids::sympatheticLevel);
     return c;
 }
 

@@ -66,6 +66,11 @@ inline constexpr const char* body = "body";
 inline constexpr const char* bodyMix = "bodyMix";
 inline constexpr const char* bodyTuning = "bodyTuning";
 inline constexpr const char* bodyDamping = "bodyDamping";
+inline constexpr const char* sympathetic = "sympathetic";
+inline constexpr const char* sympatheticScale = "sympatheticScale";
+inline constexpr const char* sympatheticIntonation = "sympatheticIntonation";
+inline constexpr const char* sympatheticDamping = "sympatheticDamping";
+inline constexpr const char* sympatheticLevel = "sympatheticLevel";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -116,7 +121,12 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::body,
                                                 ids::bodyMix,
                                                 ids::bodyTuning,
-                                                ids::bodyDamping};
+                                                ids::bodyDamping,
+                                                ids::sympathetic,
+                                                ids::sympatheticScale,
+                                                ids::sympatheticIntonation,
+                                                ids::sympatheticDamping,
+                                                ids::sympatheticLevel};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

@@ -10,6 +10,25 @@ const std::vector<FactoryPreset>& factoryPresets()
     // Positions are fractions of the string's length (the paper's 0.501 m and 0.992 m on 1.002 m).
     // The tanpura and sitar presets play through the tanpura's body (the sitar's top is of the same
     // wood and build), the tanpura's plucked softly, as a finger does.
+    // The sitar's played string on its bridge, and its thirteen sympathetic strings, tuned to Kafi.
+    static const std::vector<std::pair<const char*, float>> sitar = {{ids::stringType, 1.0f},
+          {ids::obstacleShape, 1.0f},
+          {ids::obstaclePosition, 0.012f},
+          {ids::obstacleHeight, 0.0f},
+          {ids::obstacleStiffness, 12.0f},
+          {ids::obstacleExponent, 1.5f},
+          {ids::obstacleWidth, 20.0f},
+          {ids::bridgeCurvature, 8.0f},
+          {ids::inharmonicity, 1.0e-5f},
+          {ids::pluckPosition, 0.2f},
+          {ids::pickupPosition, 0.95f},
+          {ids::body, 1.0f},
+          {ids::sympathetic, 13.0f}};
+    static const auto sitarSaPa = [] {
+        auto values = sitar;
+        values.emplace_back(ids::sympatheticScale, 0.0f);
+        return values;
+    }();
     static const std::vector<FactoryPreset> presets = {
         {"Default (tanpura bridge, no drone)", {}},
         {"Paper centre obstacle",
@@ -35,19 +54,7 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::drone, 1.0f},
           {ids::body, 1.0f},
           {ids::pluckStyle, 1.0f}}},
-        {"Sitar (parabolic bridge)",
-         {{ids::stringType, 1.0f},
-          {ids::obstacleShape, 1.0f},
-          {ids::obstaclePosition, 0.012f},
-          {ids::obstacleHeight, 0.0f},
-          {ids::obstacleStiffness, 12.0f},
-          {ids::obstacleExponent, 1.5f},
-          {ids::obstacleWidth, 20.0f},
-          {ids::bridgeCurvature, 8.0f},
-          {ids::inharmonicity, 1.0e-5f},
-          {ids::pluckPosition, 0.2f},
-          {ids::pickupPosition, 0.95f},
-          {ids::body, 1.0f}}},
+        {"Sitar (parabolic bridge)", sitar},
         {"Bass fret buzz",
          {{ids::stringType, 2.0f},
           {ids::obstacleShape, 2.0f},
@@ -86,6 +93,8 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::drone, 1.0f},
           {ids::body, 1.0f},
           {ids::pluckStyle, 1.0f}}},
+        // The Sitar with its sympathetic strings tuned to Sa and Pa alone: they answer a drone.
+        {"Sitar Sa-Pa (sympathetic strings for a drone)", sitarSaPa},
     };
     return presets;
 }

@@ -242,7 +242,8 @@ TEST_CASE("The factory presets keep their program numbers: a new one comes last"
     // A host recalls a program by its number; a preset inserted before another would change the sound
     // of every session saved on the later one.
     const char* names[] = {"Default (tanpura bridge, no drone)", "Paper centre obstacle", "Tanpura drone",
-                           "Sitar (parabolic bridge)", "Bass fret buzz", "Tanpura thread (jiva, two polarisations)"};
+                           "Sitar (parabolic bridge)", "Bass fret buzz", "Tanpura thread (jiva, two polarisations)",
+                           "Sitar Sa-Pa (sympathetic strings for a drone)"};
     JawariAudioProcessor p;
     REQUIRE(p.getNumPrograms() == int(std::size(names)));
     for (int i = 0; i < p.getNumPrograms(); ++i)
@@ -384,7 +385,12 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::body, 0.0f},
                                                       {ids::bodyMix, 1.0f},
                                                       {ids::bodyTuning, 1.0f},
-                                                      {ids::bodyDamping, 1.0f}};
+                                                      {ids::bodyDamping, 1.0f},
+                                                      {ids::sympathetic, 0.0f},
+                                                      {ids::sympatheticScale, 3.0f},
+                                                      {ids::sympatheticIntonation, 0.0f},
+                                                      {ids::sympatheticDamping, 1.0f},
+                                                      {ids::sympatheticLevel, 1.0f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -498,7 +504,12 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::body, 1.0f},
                                                     {ids::bodyMix, 0.4f},
                                                     {ids::bodyTuning, 1.5f},
-                                                    {ids::bodyDamping, 2.0f}};
+                                                    {ids::bodyDamping, 2.0f},
+                                                    {ids::sympathetic, 7.0f},
+                                                    {ids::sympatheticScale, 9.0f},
+                                                    {ids::sympatheticIntonation, 1.0f},
+                                                    {ids::sympatheticDamping, 4.0f},
+                                                    {ids::sympatheticLevel, 0.3f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -530,6 +541,7 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(s.body == BodyChoice::tanpura);
     CHECK(s.bodyTuning == Approx(1.5).epsilon(1e-4));
     CHECK(s.bodyDamping == Approx(2.0).epsilon(1e-4));
+    CHECK(s.sympatheticStrings == 7);
     CHECK(s.hostRateHz == 44100.0);
 
     const auto c = reader.controls(curve);
@@ -559,6 +571,10 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(reader.midi().mpeBendRange == Approx(24.0));
     CHECK(c.stereoWidth == Approx(0.25).epsilon(1e-4));
     CHECK(c.bodyMix == Approx(0.4).epsilon(1e-4));
+    CHECK(c.sympatheticScale == SympatheticScale::purvi);
+    CHECK(c.sympatheticIntonation == SympatheticIntonation::keyboard);
+    CHECK(c.sympatheticDamping == Approx(4.0).epsilon(1e-4));
+    CHECK(c.sympatheticLevel == Approx(0.3).epsilon(1e-4));
 }
 
 TEST_CASE("Parameters changed from another thread while audio runs", "[plugin]")
@@ -681,7 +697,7 @@ struct WorkerCounts
 };
 
 TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack, on one core "
-          "or two, on rigid supports or through the body",
+          "or two, on rigid supports or through the body with sympathetic strings retuned and switched",
           "[plugin]")
 {
     for (const bool secondCore : {false, true})
@@ -694,6 +710,7 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
         setParameter(p, ids::secondCore, secondCore ? 1.0f : 0.0f);
         setParameter(p, ids::body, body ? 1.0f : 0.0f);
         setParameter(p, ids::pluckStyle, body ? 1.0f : 0.0f);  // the soft pluck's push from rest
+        setParameter(p, ids::sympathetic, body ? 13.0f : 0.0f);
         // The worker in step with the audio thread: every string handed over is the worker's, and its
         // thread counts its allocations, whatever the machine's load.
         p.workerForTesting().setTaskHookForTesting(&WorkerCounts::inTask, &worker);
@@ -736,8 +753,18 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
                     midi.addEvent(juce::MidiMessage::controllerEvent(1, 64, 0), 0);
                 if (b == 90)
                     p.parameters().getParameter(ids::bodyMix)->setValueNotifyingHost(0.3f);
+                if (b == 95)  // the sympathetic strings retuned, damped, turned down
+                    for (const char* id : {ids::sympatheticScale, ids::sympatheticDamping, ids::sympatheticLevel})
+                        p.parameters().getParameter(id)->setValueNotifyingHost(0.7f);
                 if (b == 100)
                     midi.addEvent(juce::MidiMessage::allNotesOff(1), 0);
+                if (b == 120 && body)  // fewer sympathetic strings: a new pack, built off this thread
+                {
+                    test::countAllocationsOnThisThread(false);
+                    setParameter(p, ids::sympathetic, 5.0f);
+                    REQUIRE(p.waitForBuilds());
+                    test::countAllocationsOnThisThread(true);
+                }
                 p.processBlock(buffer, midi);
             }
             counted = test::allocations;

@@ -31,7 +31,7 @@ SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
     }
     beta_ = dt_ * dt_ * coupling * coupling * inverseMass;
     z_.assign(body.modes.size(), 0.0);
-    zPrevious_ = z_;
+    zPrevious_ = zPart_ = zPartPrevious_ = z_;
 }
 
 void SharedBody::check(const ModalSolver& string) const
@@ -48,24 +48,31 @@ void SharedBody::check(const ModalSolver& string) const
 
 bool SharedBody::atRest() const
 {
-    return std::all_of(z_.begin(), z_.end(), [](double z) { return std::abs(z) < 1e-18; })
-           && std::all_of(zPrevious_.begin(), zPrevious_.end(), [](double z) { return std::abs(z) < 1e-18; });
+    auto still = [](const std::vector<double>& z) {
+        return std::all_of(z.begin(), z.end(), [](double x) { return std::abs(x) < 1e-18; });
+    };
+    return still(z_) && still(zPrevious_) && still(zPart_) && still(zPartPrevious_);
 }
 
 void SharedBody::silence()
 {
-    std::fill(z_.begin(), z_.end(), 0.0);
-    std::fill(zPrevious_.begin(), zPrevious_.end(), 0.0);
-    force_ = bridge_ = bridgeBefore_ = radiation_ = 0.0;
+    for (auto* z : {&z_, &zPrevious_, &zPart_, &zPartPrevious_})
+        std::fill(z->begin(), z->end(), 0.0);
+    force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = 0.0;
 }
 
 // The residual of W = w~ + beta F(W) at one W: every string's contact solved with the bridge there.
 double SharedBody::evaluate(ModalSolver* const* strings, int count, double before, double bridge)
 {
     ++evaluations_;
-    force_ = 0.0;
+    force_ = partForce_ = 0.0;
     for (int i = 0; i < count; ++i)
-        force_ += strings[i]->solveOnMovingBridge(before, bridge - before);
+    {
+        const double f = strings[i]->solveOnMovingBridge(before, bridge - before);
+        force_ += f;
+        if (i >= split_)
+            partForce_ += f;
+    }
     return force_;
 }
 
@@ -95,7 +102,19 @@ double SharedBody::solveBridge(ModalSolver* const* strings, int count, double be
     }
 }
 
-void SharedBody::step(ModalSolver* const* strings, int count)
+// The copy of the modes that the strings after split drive: the same update, their force alone.
+void SharedBody::stepPart(double partForce)
+{
+    double unused = 0.0;
+    const int K = static_cast<int>(zPart_.size());
+    const double radiated =
+        kernels::predict(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), weights_.data(), nullptr, K, K, unused);
+    kernels::axpy(partForce, push_.data(), zPartPrevious_.data(), K);
+    std::swap(zPart_, zPartPrevious_);
+    partRadiation_ = radiated + radiationPush_ * partForce;
+}
+
+void SharedBody::step(ModalSolver* const* strings, int count, int split)
 {
     // z~ over z^{n-1}, with its bridge reading and its radiation's, in one pass.
     double radiated = 0.0;
@@ -105,9 +124,12 @@ void SharedBody::step(ModalSolver* const* strings, int count)
     for (int i = 0; i < count; ++i)
         strings[i]->predictOnMovingBridge();
     evaluations_ = 0;
+    split_ = split;
     solveBridge(strings, count, bridgeBefore_, predicted);
     for (int i = 0; i < count; ++i)
         strings[i]->finishOnMovingBridge();
+    if (split < count)
+        stepPart(partForce_);
     kernels::axpy(force_, push_.data(), zPrevious_.data(), K);
     std::swap(z_, zPrevious_);
     bridgeBefore_ = bridge_;

@@ -33,12 +33,16 @@ public:
     void check(const ModalSolver& string) const;
 
     // RT: one step of `count` strings and of the body. An explicit force on a string is part of its
-    // prediction.
-    void step(ModalSolver* const* strings, int count);
+    // prediction. The forces of the strings from `split` on (the sympathetic strings) also drive a
+    // copy of the body's modes of their own: the body is linear, so partRadiation() is their share of
+    // radiation() (split = count: none, and the copy is not stepped).
+    void step(ModalSolver* const* strings, int count, int split);
+    void step(ModalSolver* const* strings, int count) { step(strings, count, count); }
 
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, pushing the body down)
     double radiation() const { return radiation_; }  // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
+    double partRadiation() const { return partRadiation_; }  // RT: the same from the forces of the strings after split
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
     bool atRest() const;                               // RT: every mode below 1e-18 m
     void silence();                                    // RT: every mode at rest
@@ -46,13 +50,17 @@ public:
 private:
     double evaluate(ModalSolver* const* strings, int count, double before, double bridge);
     double solveBridge(ModalSolver* const* strings, int count, double before, double predicted);
+    void stepPart(double partForce);
 
     // Per mode: the exact update's a and e, dt^2 kappa / m_k, kappa (the bridge reads sum kappa z_k),
     // c_k; z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
     std::vector<double> a_, e_, push_, kappa_, weights_;
     std::vector<double> z_, zPrevious_;
+    std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
     double dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0, radiation_ = 0.0;  // w^n, w^{n-1}, sum c_k z_k^n
+    double partRadiation_ = 0.0, partForce_ = 0.0;  // the strings' after split_
+    int split_ = 0;
     double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0;
 };

@@ -82,6 +82,9 @@ constexpr Control kImmediateControls[] = {
     {&Controls::droneTempo, {.fallback = kDefaults.droneTempo}},
     {&Controls::humanise, {.fallback = 0.0}},
     {&Controls::droneStrength, {.lowest = 0.0, .highest = 1.0, .fallback = kDefaults.droneStrength}},
+    {&Controls::sympatheticDamping, {.lowest = 0.1, .highest = 100.0, .fallback = kDefaults.sympatheticDamping}},
+    {&Controls::sympatheticLevel,
+     {.lowest = 0.0, .highest = 1.0, .fallback = kDefaults.sympatheticLevel, .glide = true, .tolerance = 1e-6}},
 };
 constexpr size_t kDroneFineTunings = std::tuple_size_v<decltype(kDefaults.droneFineCents)>;
 constexpr ControlArray<kDroneFineTunings> kDroneFineCents{&Controls::droneFineCents,
@@ -137,6 +140,8 @@ ControlChanges SmoothedControls::advance(double k)
     current_.droneTonic = target_.droneTonic;
     current_.droneFirst = target_.droneFirst;
     current_.droneTuning = target_.droneTuning;
+    current_.sympatheticScale = target_.sympatheticScale;
+    current_.sympatheticIntonation = target_.sympatheticIntonation;
     gain_ = kGain.step(gain_, std::pow(10.0, current_.gainDb / 20.0), k);
     return changes;
 }

@@ -34,6 +34,12 @@ void Instrument::install(VoicePack* pack, VoicePack* previous)
     ++activity_.packsInstalled;
     dampingDirty_ = true;
     strings_.install(*pack, carry);
+    sympathetic_.install(*pack, carry);
+    if (pack->body && !carry)
+    {
+        pack->body->silence();
+        pack->bodyStreamStarted = false;
+    }
 }
 
 void Instrument::noteOn(int note, double velocity, int channel)
@@ -62,7 +68,8 @@ void Instrument::render(float* left, float* right, int numSamples)
 void Instrument::renderChunk(float* left, float* right, int count)
 {
     const double rate = pack_->structure.hostRateHz;
-    const MixStart start{controls_.gain(), controls_.current().bodyMix};
+    const auto& c = controls_.current();
+    const MixStart start{controls_.gain(), c.bodyMix, c.sympatheticLevel};
     followControls(1.0 - std::exp(-count / (0.020 * rate)));
     followExpression(count, rate);
     drone_.advance(count, controls_.current(), rate, strings_, activity_);
@@ -91,6 +98,7 @@ void Instrument::followExpression(int count, double rate)
 {
     const bool bendSettled = expression_.followBend(1.0 - std::exp(-count / (0.005 * rate)));
     strings_.retuneSounding(dampingDirty_, bendSettled);
+    sympathetic_.follow(dampingDirty_);
     dampingDirty_ = false;
     expression_.clearMoves();
 }
@@ -173,20 +181,27 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
         s.sounding = false;
 }
 
-// The body's radiated sound, in the centre, by the body's mix and the gain, both ramped per host sample.
+// The body's radiated sound, in the centre, by the body's mix and the gain, with the sympathetic
+// strings' share of it (the pressure their forces alone make) scaled by their level; all three ramped
+// per host sample.
 void Instrument::mixBody(int count, const MixStart& start)
 {
     const auto& c = controls_.current();
     const int os = pack_->oversampling;
     const double gainEnd = controls_.gain(), centre = std::sqrt(0.5);
+    const bool taraf = sympathetic_.count() > 0;
     for (int n = 0; n < count; ++n)
     {
         const double level =
             centre * pack_->outputScale * ramp(start.gain, gainEnd, n, count) * ramp(start.bodyMix, c.bodyMix, n, count);
+        const double tarafCut = 1.0 - ramp(start.sympatheticLevel, c.sympatheticLevel, n, count);
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
-            pack_->mixLeft[size_t(k)] += level * pack_->bodyBlock[size_t(k)];
-            pack_->mixRight[size_t(k)] += level * pack_->bodyBlock[size_t(k)];
+            double p = pack_->bodyBlock[size_t(k)];
+            if (taraf)
+                p -= tarafCut * pack_->sympatheticBlock[size_t(k)];
+            pack_->mixLeft[size_t(k)] += level * p;
+            pack_->mixRight[size_t(k)] += level * p;
         }
     }
 }

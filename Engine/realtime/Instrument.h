@@ -25,6 +25,7 @@
 #include "realtime/StringBank.h"
 #include "realtime/StringSlots.h"
 #include "realtime/StringWorker.h"
+#include "realtime/SympatheticStrings.h"
 #include "realtime/TanpuraDrone.h"
 #include "realtime/Voice.h"
 #include "realtime/VoicePack.h"
@@ -111,6 +112,7 @@ public:
     long limitedSamples() const { return limitedSamples_; }
     int maxIterations() const { return maxIterations_; }  // the most of any step since construction
     long dronePlucks() const { return drone_.plucks(); }
+    const SympatheticStrings& sympathetic() const { return sympathetic_; }
     const InstrumentActivity& activity() const { return activity_; }
     void clearActivity() { activity_ = {}; }  // RT
     // The pitch ratio, pitch and note a slot plays (tests).
@@ -139,10 +141,11 @@ private:
     void stepStrings(Sounding& sounding, int samples);
     void stepWithWorker(Sounding& sounding, int samples);
     void stepOnBody(Sounding& sounding, int samples);
+    double stepBodyOnce(Sounding& sounding, long k);
     // Where the chunk's ramps start: the gain and the body's mix as the last chunk left them.
     struct MixStart
     {
-        double gain = 1.0, bodyMix = 1.0;
+        double gain = 1.0, bodyMix = 1.0, sympatheticLevel = 1.0;
     };
     void mixStrings(const Sounding& sounding, int count, const MixStart& start);
     void mixString(int slot, const double* block, const double* second, int count, const MixStart& start);
@@ -160,6 +163,7 @@ private:
     StringSlots strings_{controls_, expression_, activity_};
     MidiNotes notes_{strings_, controls_};
     TanpuraDrone drone_;
+    SympatheticStrings sympathetic_{controls_};
 
     VoicePack* pack_ = nullptr;
     StringScheduling scheduling_ = StringScheduling::lone;

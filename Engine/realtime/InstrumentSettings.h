@@ -7,8 +7,10 @@
 #include "physics/Obstacle.h"
 #include "physics/StringModel.h"
 #include "realtime/DampingCurve.h"
+#include "realtime/SympatheticTuning.h"
 #include "realtime/Tuning.h"
 
+#include <algorithm>
 #include <array>
 
 namespace jawari
@@ -89,6 +91,9 @@ struct InstrumentStructure
     BodyChoice body = BodyChoice::none;
     double bodyTuning = 1.0;   // scales every body mode's frequency (a smaller body sounds higher)
     double bodyDamping = 1.0;  // scales every body mode's damping
+    // The sitar's sympathetic strings on the body (SympatheticStrings.h): 0 (none) to
+    // kMaxSympatheticStrings, never plucked, tuned by InstrumentControls. Only with a body.
+    int sympatheticStrings = 0;
 
     bool operator==(const InstrumentStructure&) const = default;
 };
@@ -126,6 +131,19 @@ struct InstrumentControls
     double droneTempo = 60;                                    // plucks per minute
     double humanise = 0.2;                                     // 0..1: timing and strength spread
     double droneStrength = 0.7;
+    // The sympathetic strings (InstrumentStructure::sympatheticStrings): tuned from Sa (the drone's)
+    // to a thaat or Sa-Pa, their damping scaled (a cloth laid over them: more), and their share of the
+    // body's sound (1: as the body radiates it, 0: none of it).
+    SympatheticScale sympatheticScale = SympatheticScale::kafi;
+    SympatheticIntonation sympatheticIntonation = SympatheticIntonation::just;
+    double sympatheticDamping = 1.0;
+    double sympatheticLevel = 1.0;
 };
+
+// The instrument's Sa as a pitch: from its frequency when one is set, else its MIDI note.
+inline double saPitch(const InstrumentControls& c)
+{
+    return c.droneSaHz > 0.0 ? pitchOfFrequency(c.droneSaHz, c.tuningA4Hz) : double(std::clamp(c.droneTonic, 12, 108));
+}
 
 }  // namespace jawari

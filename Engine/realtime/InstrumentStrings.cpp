@@ -27,43 +27,66 @@ void Instrument::stepStrings(Sounding& s, int samples)
             s.voices[size_t(k)]->processInternal(s.blocks[size_t(k)], samples, s.seconds[size_t(k)]);
 }
 
-// Every sounding string and the body in lockstep, one internal step at a time (SharedBody), on this
-// thread; the body's radiated pressure into the pack's body block. A body left ringing alone steps
-// until it is at rest.
+// Every sounding string, the sympathetic strings and the body in lockstep, one internal step at a
+// time (SharedBody), on this thread; the body's radiated pressure into the pack's body block, and
+// the share of it the sympathetic strings make into theirs. A body left ringing alone steps until it
+// and its sympathetic strings are at rest.
 void Instrument::stepOnBody(Sounding& s, int samples)
 {
     auto& body = *pack_->body;
     const long steps = long(samples) * pack_->oversampling;
-    if (s.count == 0 && body.atRest())
+    if (s.count == 0 && body.atRest() && sympathetic_.atRest())
     {
         std::fill(pack_->bodyBlock.begin(), pack_->bodyBlock.begin() + steps, 0.0);
+        std::fill(pack_->sympatheticBlock.begin(), pack_->sympatheticBlock.end(), 0.0);
         pack_->bodyStreamStarted = false;
         return;
     }
-    const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
-    auto& stream = pack_->bodyStream;
+    // The sympathetic strings can hold no more than the played strings have had between them.
+    double supply = 0.0;
+    for (int i = 0; i < s.count; ++i)
+        supply += s.voices[size_t(i)]->energyCeiling();
+    for (int j = 0; j < sympathetic_.count(); ++j)
+        sympathetic_.voice(j).allowEnergy(supply);
     if (!pack_->bodyStreamStarted)
     {
-        stream.start(body.radiation());
+        pack_->bodyStream.start(body.radiation());
+        pack_->sympatheticStream.start(body.partRadiation());
         pack_->bodyStreamStarted = true;
     }
-    std::array<ModalSolver*, kSlots> solvers{};
     for (long k = 0; k < steps; ++k)
+        pack_->bodyBlock[size_t(k)] = stepBodyOnce(s, k);
+}
+
+// One internal step k of the chunk: returns the radiated pressure (Pa), and writes the sympathetic
+// strings' share of it. A body that has run away is silenced with its strings' share.
+double Instrument::stepBodyOnce(Sounding& s, long k)
+{
+    auto& body = *pack_->body;
+    const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
+    const int taraf = sympathetic_.count();
+    std::array<ModalSolver*, kSlots + kMaxSympatheticStrings> solvers{};
+    for (int i = 0; i < s.count; ++i)
+        solvers[size_t(i)] = &s.voices[size_t(i)]->beginOnBody();
+    for (int j = 0; j < taraf; ++j)
+        solvers[size_t(s.count + j)] = &sympathetic_.voice(j).beginOnBody();
+    body.step(solvers.data(), s.count + taraf, s.count);
+    for (int i = 0; i < s.count; ++i)
+        s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
+    for (int j = 0; j < taraf; ++j)
+        sympathetic_.voice(j).finishOnBody();  // unheard: the body carries them (the guard still runs)
+    double p = pack_->bodyStream.advance(body.radiation(), PickupQuantity::pressure, dt);
+    double part = taraf > 0 ? pack_->sympatheticStream.advance(body.partRadiation(), PickupQuantity::pressure, dt) : 0.0;
+    if (!std::isfinite(p) || !std::isfinite(part))
     {
-        for (int i = 0; i < s.count; ++i)
-            solvers[size_t(i)] = &s.voices[size_t(i)]->beginOnBody();
-        body.step(solvers.data(), s.count);
-        for (int i = 0; i < s.count; ++i)
-            s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
-        double p = stream.advance(body.radiation(), PickupQuantity::pressure, dt);
-        if (!std::isfinite(p))
-        {
-            body.silence();
-            stream = {};
-            p = 0.0;
-        }
-        pack_->bodyBlock[size_t(k)] = p;
+        body.silence();
+        pack_->bodyStream = {};
+        pack_->sympatheticStream = {};
+        p = part = 0.0;
     }
+    if (taraf > 0)
+        pack_->sympatheticBlock[size_t(k)] = part;
+    return p;
 }
 
 // The worker takes the last strings and steps them itself, from the front of its share (a string it

@@ -21,8 +21,7 @@ void TanpuraDrone::pluck(int string, const InstrumentControls& c, StringSlots& s
 {
     // Sa from its frequency when one is set, else from its MIDI note; the strings below it by pure
     // intervals or equal-tempered ones, each with its own fine tuning.
-    const double sa =
-        c.droneSaHz > 0.0 ? pitchOfFrequency(c.droneSaHz, c.tuningA4Hz) : double(std::clamp(c.droneTonic, 12, 108));
+    const double sa = saPitch(c);
     const auto first = static_cast<DroneFirstString>(std::clamp(c.droneFirst, 0, 3));
     const double pitch = dronePitch(string, sa, first, c.droneTuning) + c.droneFineCents[size_t(string)] / 100.0;
     const double h = std::clamp(c.humanise, 0.0, 1.0);

@@ -249,6 +249,14 @@ void Voice::raiseCeiling()
         runawayLimit_ *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
 }
 
+void Voice::allowEnergy(double joules)
+{
+    if (!(joules > energyCeiling_))
+        return;
+    energyCeiling_ = joules;
+    raiseCeiling();
+}
+
 void Voice::release()
 {
     solver_.setReleased(true);

@@ -189,6 +189,10 @@ public:
     long blowUps() const { return blowUps_; }
     // The level beyond which a sample counts as running away (above); infinite during a pluck pulse.
     double runawayLimit() const { return runawayLimit_; }
+    double energyCeiling() const { return energyCeiling_; }  // H above (J)
+    // RT: H raised to `joules` (when above it): the energy a string that is never plucked (a
+    // sympathetic one) may legitimately take from the strings that are.
+    void allowEnergy(double joules);
 
     // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
     // since the last call.

@@ -6,6 +6,7 @@
 #include "physics/FactoryBodies.h"
 #include "physics/SpringLoadedModes.h"
 #include "realtime/PlayableStructure.h"
+#include "realtime/SympatheticStrings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -313,6 +314,7 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
         pack->body = std::make_unique<SharedBody>(*body, 1.0, solverConfig.timeStep);
         pack->body->check(pack->voices.front()->solver());
         pack->bodyBlock.assign(size_t(kChunkSamples) * size_t(pack->oversampling), 0.0);
+        addSympatheticStrings(*pack, quality);
     }
     return pack;
 }
@@ -329,6 +331,9 @@ void VoicePack::takeMotionFrom(VoicePack& other)
         return;
     for (size_t i = 0; i < voices.size() && i < other.voices.size(); ++i)
         voices[i]->takeMotionFrom(*other.voices[i]);
+    if (sympathetic.size() == other.sympathetic.size())
+        for (size_t k = 0; k < sympathetic.size(); ++k)
+            sympathetic[k]->takeMotionFrom(*other.sympathetic[k]);
     if (other.oversampling == oversampling)
         for (size_t c = 0; c < decimators.size(); ++c)
             decimators[c] = other.decimators[c];  // equal lengths: no allocation

@@ -91,6 +91,15 @@ struct VoicePack
     VoiceMotion::PickupStream bodyStream;
     bool bodyStreamStarted = false;
     std::vector<double> bodyBlock;
+    // The sympathetic strings on that body (SympatheticStrings.h; none without a body): their voices,
+    // their own string and retuner, the fundamental their voices were built at, and one chunk of the
+    // radiated pressure that their forces alone make (SharedBody::partRadiation) and its stream.
+    std::vector<std::unique_ptr<Voice>> sympathetic;
+    StringParameters sympatheticString;
+    StringRetuner sympatheticRetuner;
+    double sympatheticFundamentalHz = 0.0;
+    VoiceMotion::PickupStream sympatheticStream;
+    std::vector<double> sympatheticBlock;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
     // and the decimators' history.

@@ -1,0 +1,65 @@
+#pragma once
+// The sitar's sympathetic strings (taraf): strings beside the played ones that nobody plucks, each
+// pressed on a small bridge of its own that stands on the body (docs/design.md section 1,
+// "Sympathetic strings"). They ring only because the body moves under them: a played note at one's
+// pitch drives it at its resonance through the bridge. Their bridge is taken to move with the main
+// bridge (the two stand a few centimetres apart on the top, within a third of its bending wavelength
+// below 1 kHz), so they are more strings on the pack's SharedBody. Each is held on its bridge by a
+// stiff spring the string never leaves (a bilateral point: the string's downbearing keeps it
+// pressed), so the coupling is linear; their jawari is left out.
+//
+// A string nobody plucks carries little energy and few high partials: the taraf keep the modes
+// below about 6 kHz (kSympatheticModes) at the instrument's internal rate.
+
+#include "realtime/ControlSmoothing.h"
+#include "realtime/VoicePack.h"
+
+#include <array>
+
+namespace jawari
+{
+
+inline constexpr int kSympatheticModes = 16;
+// The taraf's string: plain steel, 0.2 mm, 0.55 m from its bridge to its peg (a sitar's run from
+// about 0.4 to 0.8 m), built at 370 Hz, the geometric middle of what the tunings ask (G#3 to F5 for
+// Sa at C#3), and retuned from there (tension ~ ratio^2, B kept).
+StringParameters sympatheticString();
+// A taraf string's voice: its bridge 3 % of its length from its end, a spring of kSympatheticBridgeStiffness
+// (40 times the string's own stiffness there, so nearly rigid), its pickup the velocity (unheard:
+// the taraf are heard through the body). OFF.
+inline constexpr double kSympatheticBridgeStiffness = 1e5;  // N/m
+VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateHz);
+// OFF: the structure's sympathetic strings into the pack (with a body; none without one).
+void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality);
+
+// The installed pack's sympathetic strings as played: tuned from the controls, retuned when Sa, the
+// scale, the intonation, the reference pitch or the damping move. RT: no allocation.
+class SympatheticStrings
+{
+public:
+    explicit SympatheticStrings(const SmoothedControls& controls)
+        : controls_(controls)
+    {}
+
+    // Every string tuned for the new pack; without `carry` each starts from rest.
+    void install(VoicePack& pack, bool carry);
+    // One chunk: retunes the strings whose pitch moved, or all of them when the damping changed.
+    void follow(bool dampingChanged);
+    int count() const { return pack_ == nullptr ? 0 : static_cast<int>(pack_->sympathetic.size()); }
+    Voice& voice(int k) { return *pack_->sympathetic[size_t(k)]; }
+    double pitch(int k) const { return pitch_[size_t(k)]; }  // what string k is tuned to (MIDI pitch)
+    double energy(int k) const;                               // J, without the spring's
+    bool atRest() const;  // every string below kRestJoules: none is stepped until the body moves them
+    static constexpr double kRestJoules = 1e-18;
+
+private:
+    double wantedPitch(int k) const;
+    void retune(int k);
+
+    const SmoothedControls& controls_;
+    VoicePack* pack_ = nullptr;
+    std::array<double, kMaxSympatheticStrings> pitch_{};
+    double damping_ = 1.0;
+};
+
+}  // namespace jawari

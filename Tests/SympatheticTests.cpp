@@ -1,0 +1,150 @@
+// The sitar's sympathetic strings (SympatheticStrings.h, SympatheticTuning.h): tuned to a thaat,
+// ringing on the body only when a played note drives them at their pitch.
+
+#include "TestSupport.h"
+#include "physics/FactoryBodies.h"
+#include "realtime/Instrument.h"
+#include "realtime/VoicePack.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+using namespace jawari;
+
+namespace
+{
+// The Sitar preset's string and bridge on the tanpura body, with 13 sympathetic strings.
+InstrumentStructure sitarWithTaraf(int taraf = kMaxSympatheticStrings)
+{
+    InstrumentStructure s;
+    s.stringType = 1;  // sitar steel
+    s.shape = ObstacleShape::parabola;
+    s.obstaclePosition = 0.012;
+    s.obstacleWidth = 0.020;
+    s.curvature = 8.0;
+    s.inharmonicity = 1e-5;
+    s.pluckPosition = 0.2;
+    s.pickupPosition = 0.95;
+    s.body = BodyChoice::tanpura;
+    s.sympatheticStrings = taraf;
+    return s;
+}
+
+// The pitch each key plays: equal temperament with `key` moved to `pitch`.
+KeyboardPitches withKeyAt(int key, double pitch)
+{
+    auto keys = equalTemperament();
+    keys[size_t(key)] = pitch;
+    return keys;
+}
+
+struct Played
+{
+    std::vector<double> energy;  // each sympathetic string's after the note
+    std::vector<double> left;
+};
+
+// Sa at C#3, the taraf in Kafi; `key` held for `seconds`, playing `keys`' pitch for it, on a new
+// pack of sitarWithTaraf() (or `pack`).
+Played play(int key, const KeyboardPitches& keys, double seconds = 1.0, double level = 1.0,
+            std::unique_ptr<VoicePack> pack = nullptr)
+{
+    if (!pack)
+        pack = buildVoicePack(sitarWithTaraf());
+    Instrument instrument;
+    InstrumentControls controls;
+    controls.stiffness = 1e12;
+    controls.exponent = 1.5;
+    controls.droneTonic = 49;
+    controls.sympatheticScale = SympatheticScale::kafi;
+    controls.sympatheticLevel = level;
+    controls.keyPitches = keys;
+    instrument.setControls(controls);
+    instrument.install(pack.get(), nullptr);
+    instrument.settleControls();
+    if (key >= 0)
+        instrument.noteOn(key, 0.8);
+    Played played;
+    played.left = test::playLeft(instrument, seconds);
+    for (int k = 0; k < instrument.sympathetic().count(); ++k)
+        played.energy.push_back(instrument.sympathetic().energy(k));
+    return played;
+}
+}  // namespace
+
+TEST_CASE("The taraf run up a thaat from the Pa below the upper Sa, in pure intervals or the keyboard's", "[sympathetic]")
+{
+    const std::vector<int> bilaval = {7, 9, 11, 12, 14, 16, 17, 19, 21, 23, 24, 26, 28};
+    const std::vector<int> saPa = {7, 12, 19, 24, 7, 12, 19, 24, 7, 12, 19, 24, 7};
+    for (int k = 0; k < kMaxSympatheticStrings; ++k)
+    {
+        CHECK(sympatheticSemitones(k, SympatheticScale::bilaval) == bilaval[size_t(k)]);
+        CHECK(sympatheticSemitones(k, SympatheticScale::saPa) == saPa[size_t(k)]);
+    }
+    const auto keys = equalTemperament();
+    // Pa a pure fifth above Sa, 1.955 cents above the equal-tempered one; the upper Sa an octave.
+    CHECK(sympatheticPitch(0, SympatheticScale::kafi, SympatheticIntonation::just, 49.0, 49, keys)
+          == Approx(49.0 + 12.0 * std::log2(1.5)).epsilon(1e-12));
+    CHECK(sympatheticPitch(3, SympatheticScale::kafi, SympatheticIntonation::just, 49.0, 49, keys) == 61.0);
+    CHECK(sympatheticPitch(0, SympatheticScale::kafi, SympatheticIntonation::keyboard, 49.0, 49, keys) == 56.0);
+    CHECK(sympatheticPitch(0, SympatheticScale::kafi, SympatheticIntonation::keyboard, 49.0, 49, withKeyAt(56, 56.3))
+          == 56.3);
+}
+
+TEST_CASE("A note at a sympathetic string's pitch or an octave below leaves it at least 20 dB more energy after "
+          "1 s than a note a semitone away; a quarter tone away, less than at its pitch",
+          "[sympathetic][instrument]")
+{
+    // String 3 is the upper Sa, C#4 (61). The note at 62 (D4) lies between it and string 4 (Re, 63).
+    REQUIRE(buildVoicePack(sitarWithTaraf())->sympathetic.size() == size_t(kMaxSympatheticStrings));
+    const auto keys = equalTemperament();
+    const double atPitch = play(61, keys).energy[3];
+    const double semitone = play(62, keys).energy[3];
+    const double octaveBelow = play(49, keys).energy[3];
+    const double octaveSemitone = play(50, keys).energy[3];
+    const double quarterTone = play(61, withKeyAt(61, 61.5)).energy[3];
+    auto dB = [](double a, double b) { return 10.0 * std::log10(a / b); };
+    INFO("string 3 (C#4) after 1 s: at pitch " << atPitch << " J, a semitone above " << semitone << " J ("
+                                              << dB(atPitch, semitone) << " dB); an octave below " << octaveBelow
+                                              << " J, a semitone above that " << octaveSemitone << " J ("
+                                              << dB(octaveBelow, octaveSemitone) << " dB); a quarter tone above "
+                                              << quarterTone << " J (" << dB(atPitch, quarterTone) << " dB)");
+    CHECK(dB(atPitch, semitone) > 20.0);
+    CHECK(dB(octaveBelow, octaveSemitone) > 20.0);
+    CHECK(quarterTone < atPitch);
+    CHECK(quarterTone > semitone);
+}
+
+TEST_CASE("With the body's coupling at zero the sympathetic strings stay exactly at rest", "[sympathetic][instrument]")
+{
+    auto pack = buildVoicePack(sitarWithTaraf());
+    pack->body = std::make_unique<SharedBody>(*instrumentBody(pack->structure), 0.0,
+                                              pack->voices.front()->solver().timeStep());
+    for (double e : play(61, equalTemperament(), 0.5, 1.0, std::move(pack)).energy)
+        CHECK(e == 0.0);
+}
+
+TEST_CASE("The sympathetic strings' level scales their share of the body's sound linearly", "[sympathetic][instrument]")
+{
+    // Their share is what their forces alone radiate (the body is linear): level 0.5 sounds the mean
+    // of levels 0 and 1, and the two differ by that share.
+    const auto keys = equalTemperament();
+    const auto full = play(61, keys, 1.0, 1.0).left;
+    const auto half = play(61, keys, 1.0, 0.5).left;
+    const auto none = play(61, keys, 1.0, 0.0).left;
+    double largest = 0.0, peak = 0.0, share = 0.0, total = 0.0;
+    for (size_t n = 0; n < full.size(); ++n)
+    {
+        largest = std::max(largest, std::abs(half[n] - 0.5 * (full[n] + none[n])));
+        peak = std::max(peak, std::abs(full[n]));
+        share += (full[n] - none[n]) * (full[n] - none[n]);
+        total += full[n] * full[n];
+    }
+    INFO("level 0.5 against the mean of 0 and 1: " << largest << " of a peak of " << peak
+                                                   << "; the taraf's share of the sound (RMS) " << std::sqrt(share / total));
+    CHECK(largest < 1e-6 * peak);  // float output
+    CHECK(std::sqrt(share / total) > 0.01);
+}
+
