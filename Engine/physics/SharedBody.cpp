@@ -46,6 +46,14 @@ void SharedBody::check(const ModalSolver& string) const
                                     "or the quadratic spline, every point kept live");
 }
 
+void SharedBody::checkLinear(const ModalSolver& string) const
+{
+    check(string);
+    for (int j = 0; j < string.contactCount(); ++j)
+        if (!string.contact(j).law.bilateral)
+            throw std::invalid_argument("a shared body's linear strings touch it through springs (bilateral points) only");
+}
+
 bool SharedBody::atRest() const
 {
     auto still = [](const std::vector<double>& z) {
@@ -61,37 +69,57 @@ void SharedBody::silence()
     force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = 0.0;
 }
 
-// The residual of W = w~ + beta F(W) at one W: every string's contact solved with the bridge there.
-double SharedBody::evaluate(ModalSolver* const* strings, int count, double before, double bridge)
+// The force at one W: the strings before split solved with the bridge there, the linear ones
+// after it from their affine fit (fitLinear).
+double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
 {
     ++evaluations_;
-    force_ = partForce_ = 0.0;
-    for (int i = 0; i < count; ++i)
-    {
-        const double f = strings[i]->solveOnMovingBridge(before, bridge - before);
-        force_ += f;
-        if (i >= split_)
-            partForce_ += f;
-    }
-    return force_;
+    playedForce_ = 0.0;
+    for (int i = 0; i < split_; ++i)
+        playedForce_ += strings[i]->solveOnMovingBridge(before, bridge - before);
+    if (split_ == count_)
+        return playedForce_;
+    return playedForce_ + linearForce_ + linearSlope_ * (bridge - linearAt_);
 }
 
-// W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the bridge with last step's force and the
-// last step's slope R'. Stops when the residual is rounding's share of the bridge's motion; the
-// strings keep the solve of the last W, and force_ is its F.
-double SharedBody::solveBridge(ModalSolver* const* strings, int count, double before, double predicted)
+// The linear strings' force with the bridge at W, each solved there (and keeping that solve).
+double SharedBody::solveLinear(ModalSolver* const* strings, double before, double bridge)
 {
-    double w0 = predicted + beta_ * force_;
-    double r0 = w0 - predicted - beta_ * evaluate(strings, count, before, w0);
-    if (r0 == 0.0)
+    double force = 0.0;
+    for (int i = split_; i < count_; ++i)
+        force += strings[i]->solveOnMovingBridge(before, bridge - before);
+    return force;
+}
+
+// Every point of a linear string is a spring, so its force is affine in W: measured at two
+// displacements, it needs no solve per secant evaluation.
+void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at)
+{
+    constexpr double kStep = 1e-9;  // m: any step measures an affine force; this one keeps rounding small
+    linearAt_ = at;
+    linearForce_ = solveLinear(strings, before, at);
+    linearSlope_ = (solveLinear(strings, before, at + kStep) - linearForce_) / kStep;
+}
+
+// W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the W that solves it with the played
+// strings' force as the last step left it (and the linear strings' affine force), and the last
+// step's slope R'. Stops when the residual is rounding's share of the bridge's motion; the played
+// strings keep the solve of the last W, and playedForce_ is theirs.
+double SharedBody::solveBridge(ModalSolver* const* strings, double before, double predicted)
+{
+    auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(predicted - before)) + 1e-30; };
+    if (split_ < count_)
+        fitLinear(strings, before, predicted + beta_ * force_);
+    double w0 = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
+    double r0 = w0 - predicted - beta_ * evaluate(strings, before, w0);
+    if (r0 == 0.0 || (split_ < count_ && std::abs(r0) <= tolerance(w0)))
         return w0;
     double w1 = w0 - r0 / slope_;
     constexpr int kMostEvaluations = 16;
     while (true)
     {
-        const double r1 = w1 - predicted - beta_ * evaluate(strings, count, before, w1);
-        const double tolerance = 1e-14 * (std::abs(w1) + std::abs(predicted - before)) + 1e-30;
-        if (std::abs(r1) <= tolerance || r1 == r0 || evaluations_ >= kMostEvaluations)
+        const double r1 = w1 - predicted - beta_ * evaluate(strings, before, w1);
+        if (std::abs(r1) <= tolerance(w1) || r1 == r0 || evaluations_ >= kMostEvaluations)
             return w1;
         const double slope = (r1 - r0) / (w1 - w0);
         if (std::isfinite(slope) && slope > 0.5)  // R' = 1 + beta F' >= 1 where F is monotone
@@ -125,7 +153,14 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
         strings[i]->predictOnMovingBridge();
     evaluations_ = 0;
     split_ = split;
-    solveBridge(strings, count, bridgeBefore_, predicted);
+    count_ = count;
+    const double bridge = solveBridge(strings, bridgeBefore_, predicted);
+    force_ = playedForce_;
+    if (split < count)
+    {
+        partForce_ = solveLinear(strings, bridgeBefore_, bridge);
+        force_ += partForce_;
+    }
     for (int i = 0; i < count; ++i)
         strings[i]->finishOnMovingBridge();
     if (split < count)

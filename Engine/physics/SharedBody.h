@@ -31,11 +31,15 @@ public:
     SharedBody(const ModalBody& body, double coupling, double timeStep);
     // OFF: checks that a string can stand on the body (throws std::invalid_argument naming why not).
     void check(const ModalSolver& string) const;
+    // OFF: check(), and every contact point a spring (bilateral): a string that may come after split.
+    void checkLinear(const ModalSolver& string) const;
 
     // RT: one step of `count` strings and of the body. An explicit force on a string is part of its
-    // prediction. The forces of the strings from `split` on (the sympathetic strings) also drive a
-    // copy of the body's modes of their own: the body is linear, so partRadiation() is their share of
-    // radiation() (split = count: none, and the copy is not stepped).
+    // prediction. The strings from `split` on (the sympathetic strings) are linear: every contact
+    // point of theirs a spring (checkLinear), so their force is affine in the bridge's displacement,
+    // measured twice a step and solved once more at the answer, not at every secant evaluation.
+    // Their forces also drive a copy of the body's modes of their own: the body is linear, so
+    // partRadiation() is their share of radiation() (split = count: none, and the copy is not stepped).
     void step(ModalSolver* const* strings, int count, int split);
     void step(ModalSolver* const* strings, int count) { step(strings, count, count); }
 
@@ -48,8 +52,10 @@ public:
     void silence();                                    // RT: every mode at rest
 
 private:
-    double evaluate(ModalSolver* const* strings, int count, double before, double bridge);
-    double solveBridge(ModalSolver* const* strings, int count, double before, double predicted);
+    double evaluate(ModalSolver* const* strings, double before, double bridge);
+    double solveLinear(ModalSolver* const* strings, double before, double bridge);
+    void fitLinear(ModalSolver* const* strings, double before, double at);
+    double solveBridge(ModalSolver* const* strings, double before, double predicted);
     void stepPart(double partForce);
 
     // Per mode: the exact update's a and e, dt^2 kappa / m_k, kappa (the bridge reads sum kappa z_k),
@@ -60,7 +66,9 @@ private:
     double dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0, radiation_ = 0.0;  // w^n, w^{n-1}, sum c_k z_k^n
     double partRadiation_ = 0.0, partForce_ = 0.0;  // the strings' after split_
-    int split_ = 0;
+    double playedForce_ = 0.0;                      // the strings' before split_, at the last evaluation
+    double linearForce_ = 0.0, linearSlope_ = 0.0, linearAt_ = 0.0;  // the affine fit: F, dF/dW at W
+    int split_ = 0, count_ = 0;
     double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0;
 };

@@ -59,7 +59,7 @@ void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality)
     for (int k = 0; k < count; ++k)
     {
         pack.sympathetic.push_back(std::make_unique<Voice>(config, solverConfig));
-        pack.body->check(pack.sympathetic.back()->solver());
+        pack.body->checkLinear(pack.sympathetic.back()->solver());
     }
     pack.sympatheticString = config.string;
     pack.sympatheticRetuner = StringRetuner(config.string, solverConfig.modes.size());
