@@ -2,7 +2,9 @@
 // ringing on the body only when a played note drives them at their pitch.
 
 #include "TestSupport.h"
+#include "offline/Scene.h"
 #include "physics/FactoryBodies.h"
+#include "physics/SpringLoadedModes.h"
 #include "realtime/Instrument.h"
 #include "realtime/VoicePack.h"
 
@@ -148,3 +150,71 @@ TEST_CASE("The sympathetic strings' level scales their share of the body's sound
     CHECK(std::sqrt(share / total) > 0.01);
 }
 
+
+TEST_CASE("A scene's sympathetic strings: tuned on their bridges' springs, bad input named", "[sympathetic][scene]")
+{
+    auto sceneWith = [](const std::string& sympathetic) {
+        return parseScene(R"({"format": "jawari-scene/1",
+            "string": {"length": 0.9, "tension": 86.25, "linear_density": 0.55e-3, "diameter": 0.3e-3},
+            "obstacles": [{"type": "point", "position": 0.01}],
+            "excitation": {"type": "pluck", "position": 0.18, "amplitude": 1.5e-3},
+            "pickup": {"position": 0.855},
+            "body": {"model": "tanpura", "sympathetic_strings": )"
+                          + sympathetic + "}}");
+    };
+    const Scene scene = sceneWith(R"({"count": 13, "sa": 138.59, "scale": "Bilaval"})");
+    REQUIRE(scene.body->strings.size() == 13);
+    // Each sounds its note on its spring: string 3 the upper Sa, string 0 Pa below it.
+    auto soundsHz = [](const BodyString& s) {
+        VoiceConfig config = sympatheticVoiceConfig({}, 48000.0);
+        config.string = s.string;
+        return springLoadedFrequencyHz(voiceSolverConfig(config), 0);
+    };
+    CHECK(soundsHz(scene.body->strings[3]) == Approx(2.0 * 138.59).epsilon(1e-9));
+    CHECK(soundsHz(scene.body->strings[0]) == Approx(1.5 * 138.59).epsilon(1e-9));
+    CHECK(scene.body->strings[0].excitation.amplitude == 0.0);
+    auto refused = [&](const std::string& sympathetic) {
+        try
+        {
+            sceneWith(sympathetic);
+        }
+        catch (const SceneError& e)
+        {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    CHECK_THAT(refused(R"({"count": 14, "sa": 138.59})"), Catch::Contains("body.sympathetic_strings.count"));
+    CHECK_THAT(refused(R"({"count": 13})"), Catch::Contains("body.sympathetic_strings.sa"));
+    CHECK_THAT(refused(R"({"count": 13, "sa": 138.59, "scale": "Yaman"})"),
+               Catch::Contains("body.sympathetic_strings.scale"));
+    CHECK_THAT(refused(R"({"count": 13, "sa": 138.59, "tuning": 1})"), Catch::Contains("tuning"));
+}
+
+TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.1 cent", "[sympathetic][instrument]")
+{
+    // The spring stays as stiff while a retune scales the tension: the voice corrects for it.
+    auto pack = buildVoicePack(sitarWithTaraf());
+    Instrument instrument;
+    InstrumentControls controls;
+    controls.droneTonic = 49;
+    controls.sympatheticScale = SympatheticScale::kalyan;
+    instrument.setControls(controls);
+    instrument.install(pack.get(), nullptr);
+    instrument.settleControls();
+    double worst = 0.0;
+    for (int k = 0; k < kMaxSympatheticStrings; ++k)
+    {
+        auto config = voiceSolverConfig(sympatheticVoiceConfig({}, 48000.0));
+        auto& voice = *pack->sympathetic[size_t(k)];
+        for (int p = 0; p < config.modes.size(); ++p)
+            config.modes.omega[size_t(p)] *= voice.tuningRatio();  // the retuned modes, the spring as built
+        for (double& c : config.contactCompliance)
+            c /= voice.tuningRatio() * voice.tuningRatio();  // the dropped modes' compliance, 1 / tension
+        const double hz = springLoadedFrequencyHz(config, 0);
+        const double cents = 1200.0 * std::log2(hz / (440.0 * std::pow(2.0, (instrument.sympathetic().pitch(k) - 69.0) / 12.0)));
+        worst = std::max(worst, std::abs(cents));
+    }
+    INFO("the largest error " << worst << " cents");
+    CHECK(worst < 0.1);
+}

@@ -3,7 +3,10 @@
 #include "offline/SceneReader.h"
 
 #include "physics/FactoryBodies.h"
+#include "realtime/SympatheticStrings.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace jawari::scene_reading
@@ -62,6 +65,38 @@ BodyString readBodyString(const json& value, const std::string& path)
     }
 }
 
+// The sympathetic strings (SympatheticStrings.h): "count" of them, tuned from "sa" (Hz) to a "scale"
+// (a thaat, or Sa-Pa) in pure intervals, each at rest on its bridge's spring.
+std::vector<BodyString> readSympatheticStrings(const json& value, const std::string& path)
+{
+    ObjectReader r(value, path);
+    const auto count = r.integer("count");
+    if (!count || *count < 1 || *count > kMaxSympatheticStrings)
+        throw SceneError(r.at("count"), "must be a whole number from 1 to " + std::to_string(kMaxSympatheticStrings));
+    if (!r.has("sa"))
+        throw SceneError(r.at("sa"), "is required (Sa's frequency, Hz)");
+    const double sa = r.positive("sa", 0.0);
+    if (sa < 20.0 || sa > 1000.0)
+        throw SceneError(r.at("sa"), "must be between 20 and 1000 Hz (got " + show(sa) + ")");
+    const std::vector<const char*> names(std::begin(kSympatheticScaleNames), std::end(kSympatheticScaleNames));
+    const auto scaleName = r.string("scale", "Kafi", names);
+    r.rejectUnknown();
+    const auto scale = static_cast<SympatheticScale>(
+        std::find_if(names.begin(), names.end(), [&](const char* n) { return scaleName == n; }) - names.begin());
+    std::vector<BodyString> strings;
+    for (int k = 0; k < *count; ++k)
+    {
+        const double pitch = sympatheticPitch(k, scale, SympatheticIntonation::just, pitchOfFrequency(sa, 440.0), 0,
+                                              equalTemperament());
+        BodyString s;
+        s.string = sympatheticStringAt(440.0 * std::pow(2.0, (pitch - 69.0) / 12.0));
+        s.obstacles = {sympatheticBridge(s.string.lengthMetres)};
+        s.excitation.amplitude = 0.0;
+        strings.push_back(s);
+    }
+    return strings;
+}
+
 std::vector<int> readBodyObstacles(ObjectReader& r, const Scene& scene)
 {
     std::vector<int> indices;
@@ -112,6 +147,9 @@ SceneBody readBody(const json& value, const Scene& scene)
         for (size_t i = 0; i < strings.size(); ++i)
             body.strings.push_back(readBodyString(strings[i], r.at("strings") + "[" + std::to_string(i) + "]"));
     }
+    if (r.has("sympathetic_strings"))
+        for (auto& s : readSympatheticStrings(r.raw("sympathetic_strings"), r.at("sympathetic_strings")))
+            body.strings.push_back(std::move(s));
     r.rejectUnknown();
     return body;
 }

@@ -23,19 +23,41 @@ StringParameters sympatheticString()
     return s;
 }
 
+Obstacle sympatheticBridge(double lengthMetres)
+{
+    Obstacle bridge;
+    bridge.type = ObstacleType::point;
+    bridge.position = 0.03 * lengthMetres;
+    bridge.width = 1e-3;  // the point's weight: the law's stiffness is per metre of it
+    bridge.law.bilateral = true;
+    bridge.law.exponent = 1.0;
+    bridge.law.stiffness = kSympatheticBridgeStiffness / bridge.width;
+    return bridge;
+}
+
+StringParameters sympatheticStringAt(double hz)
+{
+    // The spring stays as stiff while the tension scales, so the loaded pitch is not quite
+    // proportional to the ratio: a few fixed-point steps on it.
+    VoiceQuality quality;
+    quality.oversampling = 1;
+    VoiceConfig config = sympatheticVoiceConfig(quality, 48000.0);
+    const double built = config.string.tensionNewtons;
+    double ratio = 1.0;
+    for (int step = 0; step < 4; ++step)
+    {
+        ratio *= hz / springLoadedFrequencyHz(voiceSolverConfig(config), 0);
+        config.string.tensionNewtons = built * ratio * ratio;
+    }
+    return config.string;
+}
+
 VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateHz)
 {
     VoiceConfig config;
     config.string = sympatheticString();
     const double L = config.string.lengthMetres;
-    Obstacle bridge;
-    bridge.type = ObstacleType::point;
-    bridge.position = 0.03 * L;
-    bridge.width = 1e-3;  // the point's weight: the law's stiffness is per metre of it
-    bridge.law.bilateral = true;
-    bridge.law.exponent = 1.0;
-    bridge.law.stiffness = kSympatheticBridgeStiffness / bridge.width;
-    config.obstacles = {bridge};
+    config.obstacles = {sympatheticBridge(L)};
     config.excitationPosition = 0.5 * L;
     config.pickupPosition = 0.9 * L;
     config.quantity = PickupQuantity::velocity;
@@ -48,6 +70,41 @@ VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateH
     config.movingBridge = true;
     return config;
 }
+
+namespace
+{
+// The ratios the loading table spans, kLoadingPoints log-spaced from kLowestRatio to 1 / kLowestRatio.
+constexpr double kLowestRatio = 0.25;
+constexpr int kLoadingPoints = 33;
+double loadingRatio(int i)
+{
+    return kLowestRatio * std::pow(1.0 / (kLowestRatio * kLowestRatio), double(i) / (kLoadingPoints - 1));
+}
+
+// f(r) / (r f(1)) at each table ratio: the voice's first mode on its spring with the tension scaled by r^2.
+std::vector<double> springLoading(VoiceConfig config)
+{
+    const double built = config.string.tensionNewtons;
+    const double f1 = springLoadedFrequencyHz(voiceSolverConfig(config), 0);
+    std::vector<double> loading;
+    for (int i = 0; i < kLoadingPoints; ++i)
+    {
+        const double r = loadingRatio(i);
+        config.string.tensionNewtons = built * r * r;
+        loading.push_back(springLoadedFrequencyHz(voiceSolverConfig(config), 0) / (r * f1));
+    }
+    return loading;
+}
+
+// The table at ratio r, linear in log r (clamped to its ends). RT.
+double loadingAt(const std::vector<double>& loading, double r)
+{
+    const double x = std::clamp(std::log(r / kLowestRatio) / std::log(1.0 / (kLowestRatio * kLowestRatio)), 0.0, 1.0)
+                     * (kLoadingPoints - 1);
+    const int i = std::min(static_cast<int>(x), kLoadingPoints - 2);
+    return loading[size_t(i)] + (x - i) * (loading[size_t(i + 1)] - loading[size_t(i)]);
+}
+}  // namespace
 
 void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality)
 {
@@ -65,6 +122,7 @@ void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality)
     pack.sympatheticRetuner = StringRetuner(config.string, solverConfig.modes.size());
     // The pitch it sounds on its bridge's spring (SpringLoadedModes.h), which the tunings aim at.
     pack.sympatheticFundamentalHz = springLoadedFrequencyHz(solverConfig, 0);
+    pack.sympatheticLoading = springLoading(config);
     pack.sympatheticBlock.assign(size_t(kChunkSamples) * size_t(pack.oversampling), 0.0);
 }
 
@@ -108,8 +166,12 @@ double SympatheticStrings::wantedPitch(int k) const
 void SympatheticStrings::retune(int k)
 {
     const auto& c = controls_.current();
-    const double hz = c.tuningA4Hz * std::pow(2.0, (pitch_[size_t(k)] - 69.0) / 12.0);
-    pack_->sympatheticRetuner.retune(voice(k), hz / pack_->sympatheticFundamentalHz, c, damping_);
+    // The ratio whose loaded pitch r f(1) loading(r) is the note's: a few fixed-point steps.
+    const double wanted = c.tuningA4Hz * std::pow(2.0, (pitch_[size_t(k)] - 69.0) / 12.0) / pack_->sympatheticFundamentalHz;
+    double ratio = wanted;
+    for (int step = 0; step < 4; ++step)
+        ratio = wanted / loadingAt(pack_->sympatheticLoading, ratio);
+    pack_->sympatheticRetuner.retune(voice(k), ratio, c, damping_);
 }
 
 double SympatheticStrings::energy(int k) const

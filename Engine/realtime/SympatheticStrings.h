@@ -24,9 +24,14 @@ inline constexpr int kSympatheticModes = 16;
 // about 0.4 to 0.8 m), built at 370 Hz, the geometric middle of what the tunings ask (G#3 to F5 for
 // Sa at C#3), and retuned from there (tension ~ ratio^2, B kept).
 StringParameters sympatheticString();
-// A taraf string's voice: its bridge 3 % of its length from its end, a spring of kSympatheticBridgeStiffness
-// (40 times the string's own stiffness there, so nearly rigid), its pickup the velocity (unheard:
-// the taraf are heard through the body). OFF.
+// Its bridge: a point 3 % of its length from its end, a spring of kSympatheticBridgeStiffness the
+// string never leaves (a bilateral point: its downbearing keeps it pressed).
+Obstacle sympatheticBridge(double lengthMetres);
+// The string retuned (tension ~ ratio^2, B kept) so that on its bridge's spring its first mode sounds
+// at `hz` (SpringLoadedModes.h, at kSympatheticModes): a scene's sympathetic string. OFF.
+StringParameters sympatheticStringAt(double hz);
+// A taraf string's voice: on sympatheticBridge (the spring 40 times as stiff as the string is there,
+// so nearly rigid), its pickup the velocity (unheard: the taraf are heard through the body). OFF.
 inline constexpr double kSympatheticBridgeStiffness = 1e5;  // N/m
 VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateHz);
 // OFF: the structure's sympathetic strings into the pack (with a body; none without one).

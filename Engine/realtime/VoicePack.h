@@ -98,6 +98,9 @@ struct VoicePack
     StringParameters sympatheticString;
     StringRetuner sympatheticRetuner;
     double sympatheticFundamentalHz = 0.0;
+    // The loaded pitch's share of the ratio, f(r) / (r f(1)), at log-spaced ratios (SympatheticStrings.cpp):
+    // the bridge's spring stays as stiff while the tension scales.
+    std::vector<double> sympatheticLoading;
     VoiceMotion::PickupStream sympatheticStream;
     std::vector<double> sympatheticBlock;
 
