@@ -93,6 +93,16 @@ Scene withTanpuraBody(Scene scene, PickupQuantity quantity)
 }
 
 
+// Every string of the scene and its body's modes without damping.
+void makeLossless(Scene& scene)
+{
+    scene.string.damping.law = DampingLaw::none;
+    for (auto& s : scene.body->strings)
+        s.string.damping.law = DampingLaw::none;
+    for (auto& mode : scene.body->body.modes)
+        mode.sigma = 0.0;
+}
+
 // The scene's reference over 1e5 steps (0.05 s at 2 MHz) with its energy log: the largest drift from
 // the initial energy and the largest rise between log rows, both relative to it.
 struct EnergyRun
@@ -163,11 +173,7 @@ TEST_CASE("Strings and a lossless body conserve their discrete energy to 1e-9 ov
             Scene scene = withTanpuraBody(test::atPaperConfiguration(loadSceneFile(test::resource("Scenes/" + std::string(name)))),
                                           PickupQuantity::displacement);
             if (lossless)
-            {
-                scene.string.damping.law = DampingLaw::none;
-                for (auto& mode : scene.body->body.modes)
-                    mode.sigma = 0.0;
-            }
+                makeLossless(scene);
             const auto [result, drift, rise] = referenceEnergy(scene);
             const double H0 = result.stats.initialEnergy;
             INFO(name << (lossless ? " lossless" : " lossy") << ": drift " << drift << ", largest rise " << rise
@@ -268,9 +274,7 @@ TEST_CASE("The voice with a lossless body conserves its discrete energy to 1e-9 
                                       PickupQuantity::pressure);
         scene.simulation.forgetConfiguration();
         setMethodByName(scene.simulation, "realtime");
-        scene.string.damping.law = DampingLaw::none;
-        for (auto& mode : scene.body->body.modes)
-            mode.sigma = 0.0;
+        makeLossless(scene);
         RenderOptions options;
         options.logEnergy = true;
         scene.simulation.durationSeconds = 1.0;
@@ -349,13 +353,7 @@ TEST_CASE("Two and four strings on one body: the discrete energy holds to 1e-9 l
         {
             Scene scene = drone(strings - 1, true);
             if (lossless)
-            {
-                scene.string.damping.law = DampingLaw::none;
-                for (auto& s : scene.body->strings)
-                    s.string.damping.law = DampingLaw::none;
-                for (auto& mode : scene.body->body.modes)
-                    mode.sigma = 0.0;
-            }
+                makeLossless(scene);
             const auto [result, drift, rise] = referenceEnergy(scene);
             INFO(strings << " strings, " << result.stats.modes << " modes" << (lossless ? ", lossless" : ", lossy")
                          << ": drift " << drift << ", largest rise " << rise);
@@ -388,13 +386,7 @@ TEST_CASE("The Sitar's string, the body and 13 sympathetic strings: the discrete
             scene.body->strings.back().excitation.amplitude = 0.0;
         }
         if (lossless)
-        {
-            scene.string.damping.law = DampingLaw::none;
-            for (auto& s : scene.body->strings)
-                s.string.damping.law = DampingLaw::none;
-            for (auto& mode : scene.body->body.modes)
-                mode.sigma = 0.0;
-        }
+            makeLossless(scene);
         const auto [result, drift, rise] = referenceEnergy(scene);
         INFO(result.stats.modes << " modes" << (lossless ? ", lossless" : ", lossy") << ": drift " << drift
                                 << ", largest rise " << rise);
@@ -486,6 +478,19 @@ struct SharedAgainstJoined
     int pressingSteps = 0, mostEvaluations = 0;
 };
 
+// `count` sympathetic strings (linear: their bridges are springs) tuned to Kafi from 200 Hz, M modes.
+std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate)
+{
+    std::vector<ModalSolverConfig> configs;
+    for (int k = 0; k < count; ++k)
+    {
+        const auto string = sympatheticStringAt(200.0 * std::pow(2.0, sympatheticSemitones(k, SympatheticScale::kafi) / 12.0));
+        configs.push_back(stringSolverConfig(string, {sympatheticBridge(string.lengthMetres)}, M, rate,
+                                             0.9 * string.lengthMetres, PickupQuantity::displacement));
+    }
+    return configs;
+}
+
 SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M, int sympathetic = 0, int steps = 7000)
 {
     const double rate = 192000.0;
@@ -500,14 +505,7 @@ SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M,
     };
     const ModalBody body = *factoryBody("tanpura");
 
-    // The sympathetic strings (linear: their bridges are springs), at rest, after the two.
-    std::vector<ModalSolverConfig> linear;
-    for (int k = 0; k < sympathetic; ++k)
-    {
-        const auto string = sympatheticStringAt(200.0 * std::pow(2.0, sympatheticSemitones(k, SympatheticScale::kafi) / 12.0));
-        linear.push_back(stringSolverConfig(string, {sympatheticBridge(string.lengthMetres)}, M, rate,
-                                            0.9 * string.lengthMetres, PickupQuantity::displacement));
-    }
+    const auto linear = sympatheticConfigs(sympathetic, M, rate);  // at rest, after the two
     auto joinedConfig = first;
     auto quiet = second;
     quiet.pickupWeights.clear();
