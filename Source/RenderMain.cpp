@@ -134,6 +134,7 @@ struct Request
     juce::String scenePath;
     std::optional<juce::String> output, method, modes, rate, duration, outputRate, format, energyPath;
     std::optional<juce::String> midiPath, preset, statePath;
+    juce::StringArray settings;  // --set ID=VALUE, in order
     bool raw = false, quiet = false, secondCore = false;
     bool throughPlugin = false;  // --midi, or the drone alone: no scene file
 };
@@ -149,8 +150,11 @@ void checkOptionsFit(const Request& q, int positionals)
 {
     if (!playsPlugin(q, positionals))
     {
-        if (q.preset || q.statePath || q.secondCore)
-            throw UsageError(std::string(q.preset ? "--preset" : q.statePath ? "--state" : "--second-core")
+        if (q.preset || q.statePath || q.secondCore || !q.settings.isEmpty())
+            throw UsageError(std::string(q.preset       ? "--preset"
+                                         : q.statePath  ? "--state"
+                                         : q.secondCore ? "--second-core"
+                                                        : "--set")
                              + " applies to renders through the plugin (--midi, or the drone alone), not to "
                                "scene files");
         return;
@@ -185,6 +189,8 @@ Request parseArguments(int argc, char* argv[])
     q.midiPath = optionValue(args, "--midi");
     q.preset = optionValue(args, "--preset");
     q.statePath = optionValue(args, "--state");
+    while (const auto setting = optionValue(args, "--set"))
+        q.settings.add(*setting);
     q.raw = args.removeOptionIfFound("--raw");
     q.quiet = args.removeOptionIfFound("--quiet");
     q.secondCore = args.removeOptionIfFound("--second-core");
@@ -342,6 +348,25 @@ juce::String chooseSound(jawari::plugin::JawariAudioProcessor& processor, const 
     return "the plugin's defaults";
 }
 
+// --set ID=VALUE: a parameter of the plugin set after the preset or state, in its own units (the
+// value the editor shows: 0 or 1 for a switch, a choice's index counted from 0).
+void applySettings(jawari::plugin::JawariAudioProcessor& processor, const juce::StringArray& settings)
+{
+    for (const auto& setting : settings)
+    {
+        const auto id = setting.upToFirstOccurrenceOf("=", false, false).trim();
+        auto* parameter = processor.parameters().getParameter(id);
+        if (!setting.containsChar('=') || parameter == nullptr)
+            throw UsageError("--set " + setting.toStdString() + ": give ID=VALUE with a parameter's id (Source/Parameters.h)");
+        const double value = parseNumber("--set " + id.toStdString(), setting.fromFirstOccurrenceOf("=", false, false));
+        const auto& range = parameter->getNormalisableRange();
+        if (value < range.start || value > range.end)
+            throw UsageError("--set " + id.toStdString() + ": must be between " + std::to_string(range.start) + " and "
+                             + std::to_string(range.end));
+        parameter->setValueNotifyingHost(parameter->convertTo0to1(float(value)));
+    }
+}
+
 jawari::midi::MidiRenderSettings midiSettings(const Request& q)
 {
     jawari::midi::MidiRenderSettings s;
@@ -455,6 +480,7 @@ int runMidi(const Request& q)
     const juce::ScopedJuceInitialiser_GUI juceRuntime;  // the processor's parameters run a timer
     jawari::plugin::JawariAudioProcessor processor;
     const juce::String sound = chooseSound(processor, q);
+    applySettings(processor, q.settings);
     if (q.secondCore)
         processor.parameters().getParameter(jawari::plugin::ids::secondCore)->setValueNotifyingHost(1.0f);
     if (score.events.getNumEvents() == 0)

@@ -5,7 +5,7 @@ inline constexpr const char* kRenderUsage =
     R"(jawari-render: render a jawari-scene/1 file, or a MIDI file played by the plugin, to a WAV file.
 
 usage: jawari-render SCENE.json -o OUT.wav [options]
-       jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--duration S]
+       jawari-render --midi SONG.mid -o OUT.wav [--preset NAME | --state FILE] [--set ID=VALUE]... [--duration S]
                      [--output-rate HZ] [--format int24|float] [--second-core] [--quiet]
        jawari-render --preset NAME | --state FILE -o OUT.wav --duration S   (the drone alone)
 
@@ -34,12 +34,15 @@ MIDI (instead of a scene file):
                           0.5 s after the last event, at most 60 s after it
   --preset NAME           a factory preset, by its name or the part before the parenthesis
                           ("Default", "Paper centre obstacle", "Tanpura drone", "Sitar",
-                          "Bass fret buzz", "Tanpura thread"); the plugin's defaults (Default) without it
+                          "Bass fret buzz", "Tanpura thread", "Sitar Sa-Pa"); the plugin's defaults (Default) without it
   --state FILE            a state saved by the plugin as XML (a user preset, .jawaripreset)
   --output-rate HZ        the rate the plugin runs at: 22050 to 192000 Hz (default 48000)
   --format NAME           int24 (the default): 24-bit, where samples at or beyond full scale are
                           clipped, with a warning that counts them; float: 32-bit float, every
                           sample as the plugin gives it, above full scale included
+  --set ID=VALUE          a parameter set after the preset or state, in its own units (a switch 0
+                          or 1, a choice by its index from 0; the ids: Source/Parameters.h), e.g.
+                          --set sympathetic=0; may be given again
   --second-core           the plugin's "use a second core": half the strings stepped on another
                           thread (faster on two free cores; the same samples to the last bit)
 

@@ -387,6 +387,9 @@ TEST_CASE("jawari-render --midi plays a state file the plugin saved, and factory
     const double ratio = peakOf(quieter.wav) / peakOf(plain.wav);
     INFO("peak ratio " << ratio);
     CHECK(ratio == Approx(std::pow(10.0, -6.0 / 20.0)).epsilon(0.01));
+    // --set: a parameter after the sound is chosen, in its own units.
+    const auto set = renderHeldA3("set", "--set gain=-6 --quiet");
+    CHECK(peakOf(set.wav) / peakOf(plain.wav) == Approx(std::pow(10.0, -6.0 / 20.0)).epsilon(0.01));
 
     // A controller and no note: the Tanpura drone preset plays, the defaults stay silent.
     const auto cc = writeMidi(dir / "cc.mid", {track({{0, juce::MidiMessage::controllerEvent(1, 7, 100)}})}, 0);
@@ -492,6 +495,11 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         {"--midi " + good + " --format wav", "--format: unknown format 'wav' (expected int24 or float)"},
         {jawari::test::resource("Scenes/paper-centre.json") + " --preset Default", "--preset applies to renders through the plugin"},
         {jawari::test::resource("Scenes/paper-centre.json") + " --second-core", "--second-core applies to renders through the plugin"},
+        {jawari::test::resource("Scenes/paper-centre.json") + " --set gain=-6", "--set applies to renders through the plugin"},
+        {"--midi " + good + " --set banjo=1", "--set banjo=1: give ID=VALUE with a parameter's id"},
+        {"--midi " + good + " --set gain", "--set gain: give ID=VALUE"},
+        {"--midi " + good + " --set gain=loud", "--set gain"},
+        {"--midi " + good + " --set sympathetic=14", "--set sympathetic: must be between 0"},
     };
     for (const auto& c : cases)
     {
