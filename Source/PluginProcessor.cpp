@@ -39,7 +39,9 @@ JawariAudioProcessor::~JawariAudioProcessor()
 
 InstrumentStructure JawariAudioProcessor::wantedStructure(double hostRateHz) const
 {
-    return playableStructure(reader_.structure(hostRateHz));
+    auto structure = reader_.structure(hostRateHz);
+    structure.bodyOneWay = bodyOneWay_.load(std::memory_order_relaxed);
+    return playableStructure(structure);
 }
 
 void JawariAudioProcessor::reportProblem(const juce::String& what)

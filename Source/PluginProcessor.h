@@ -95,6 +95,9 @@ public:
     bool waitForBuilds(int timeoutMs = 20000);
     // Tests: the second core's worker, to set its pace and mark its thread.
     StringWorker& workerForTesting() { return worker_; }
+    // The body driven one way (InstrumentStructure::bodyOneWay) from the next build on: a comparison
+    // for jawari-soak, not a parameter.
+    void setBodyOneWayForTesting(bool oneWay) { bodyOneWay_ = oneWay; }
     // The structure the audio thread plays now (CT, approximate).
     long packsInstalled() const { return packsInstalled_.load(); }
     // What the plugin last refused or could not do, and why (a build, a state, a preset), or empty
@@ -107,6 +110,7 @@ private:
     class Builder;
     void handleAsyncUpdate() override;
     InstrumentStructure wantedStructure(double hostRateHz) const;  // the parameters' structure, playable
+    std::atomic<bool> bodyOneWay_{false};
     void reportProblem(const juce::String& what);
     juce::Result readStateXml(const char* text, size_t length);  // setStateFromXml's work; may throw
     juce::Result writeUserPreset(const juce::String& name);      // saveUserPreset's work; may throw

@@ -66,7 +66,7 @@ void SharedBody::silence()
 {
     for (auto* z : {&z_, &zPrevious_, &zPart_, &zPartPrevious_})
         std::fill(z->begin(), z->end(), 0.0);
-    force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = 0.0;
+    force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = playedForce_ = 0.0;
 }
 
 // The force at one W: the strings before split solved with the bridge there, the linear ones
@@ -154,11 +154,15 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     evaluations_ = 0;
     split_ = split;
     count_ = count;
-    const double bridge = solveBridge(strings, bridgeBefore_, predicted);
+    // One way, the strings' bridge stands still: their solve once, with it at rest.
+    const double before = oneWay_ ? 0.0 : bridgeBefore_;
+    const double bridge = oneWay_ ? 0.0 : solveBridge(strings, before, predicted);
+    if (oneWay_)
+        evaluate(strings, 0.0, 0.0);
     force_ = playedForce_;
     if (split < count)
     {
-        partForce_ = solveLinear(strings, bridgeBefore_, bridge);
+        partForce_ = solveLinear(strings, before, bridge);
         force_ += partForce_;
     }
     for (int i = 0; i < count; ++i)

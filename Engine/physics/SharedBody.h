@@ -43,6 +43,12 @@ public:
     void step(ModalSolver* const* strings, int count, int split);
     void step(ModalSolver* const* strings, int count) { step(strings, count, count); }
 
+    // OFF or RT: one way (a comparison, not the instrument's physics): the strings stand on rigid
+    // supports and their forces there drive the body, which moves nothing back (one contact solve a
+    // step; the sympathetic strings then stay at rest). Off by default: two way.
+    void setOneWay(bool oneWay) { oneWay_ = oneWay; }
+    bool oneWay() const { return oneWay_; }
+
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, pushing the body down)
     double radiation() const { return radiation_; }  // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
@@ -69,6 +75,7 @@ private:
     double playedForce_ = 0.0;                      // the strings' before split_, at the last evaluation
     double linearForce_ = 0.0, linearSlope_ = 0.0, linearAt_ = 0.0;  // the affine fit: F, dF/dW at W
     int split_ = 0, count_ = 0;
+    bool oneWay_ = false;
     double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0;
 };

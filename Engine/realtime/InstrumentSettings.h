@@ -91,6 +91,9 @@ struct InstrumentStructure
     BodyChoice body = BodyChoice::none;
     double bodyTuning = 1.0;   // scales every body mode's frequency (a smaller body sounds higher)
     double bodyDamping = 1.0;  // scales every body mode's damping
+    // The body driven one way (SharedBody::setOneWay): the strings on rigid supports, their forces
+    // there driving it. A comparison for the researcher (jawari-soak --one-way), not the plugin's.
+    bool bodyOneWay = false;
     // The sitar's sympathetic strings on the body (SympatheticStrings.h): 0 (none) to
     // kMaxSympatheticStrings, never plucked, tuned by InstrumentControls. Only with a body.
     int sympatheticStrings = 0;

@@ -18,6 +18,7 @@
 //               [--polarisations 1|2] (the strings' polarisations; default 1)
 //               [--body none|tanpura] (the body; default: the preset's)
 //               [--sympathetic N] (the sympathetic strings on the body, 0..13; default: the preset's)
+//               [--one-way 0|1]   (1: the body driven one way, the strings on rigid supports; default 0)
 
 #include "BlockLoad.h"
 #include "offline/CpuClock.h"
@@ -38,11 +39,11 @@ int main(int argc, char* argv[])
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
     double replay = 0.0;
-    int block = 512, quality = 1, polyphony = 0, drone = 1, secondCore = 0, polarisations = 1, sympathetic = -1;
+    int block = 512, quality = 1, polyphony = 0, drone = 1, secondCore = 0, polarisations = 1, sympathetic = -1, oneWay = 0;
     std::string preset = "Tanpura drone", csv, body;
     const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
                         "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME] [--replay S] [--csv FILE] "
-                        "[--second-core 0|1] [--polarisations 1|2] [--body none|tanpura] [--sympathetic N]\n";
+                        "[--second-core 0|1] [--polarisations 1|2] [--body none|tanpura] [--sympathetic N] [--one-way 0|1]\n";
     for (int i = 1; i < argc; i += 2)
     {
         const std::string key = argv[i];
@@ -79,6 +80,8 @@ int main(int argc, char* argv[])
                 secondCore = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--body" && (value == "none" || value == "tanpura"))
                 body = value;
+            else if (key == "--one-way")
+                oneWay = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--sympathetic")
                 sympathetic = std::clamp(std::stoi(value), 0, jawari::kMaxSympatheticStrings);
             else if (key == "--polarisations" && (value == "1" || value == "2"))
@@ -124,6 +127,7 @@ int main(int argc, char* argv[])
         set(jawari::plugin::ids::body, body == "tanpura" ? 1.0f : 0.0f);
     if (sympathetic >= 0)
         set(jawari::plugin::ids::sympathetic, float(sympathetic));
+    p.setBodyOneWayForTesting(oneWay != 0);
     p.prepareToPlay(rate, block);
     if (!p.waitForBuilds(120000))
     {
