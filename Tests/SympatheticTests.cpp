@@ -218,3 +218,37 @@ TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.
     INFO("the largest error " << worst << " cents");
     CHECK(worst < 0.1);
 }
+
+TEST_CASE("Retuning ringing sympathetic strings clicks no more than their sound moves anyway", "[sympathetic][instrument]")
+{
+    // The taraf ring after a held C#4 is released; then their scale changes from Kafi to Bilaval
+    // (four of the thirteen strings, its Ga and Ni, move up by 71 cents in just intonation). A click
+    // would be a jump in the output far beyond its sample-to-sample steps before.
+    auto pack = buildVoicePack(sitarWithTaraf());
+    Instrument instrument;
+    InstrumentControls controls;
+    controls.droneTonic = 49;
+    controls.sympatheticScale = SympatheticScale::kafi;
+    instrument.setControls(controls);
+    instrument.install(pack.get(), nullptr);
+    instrument.settleControls();
+    instrument.noteOn(61, 0.8);
+    test::playLeft(instrument, 0.5);
+    instrument.noteOff(61);
+    const auto before = test::playLeft(instrument, 1.0);
+    const double niBefore = instrument.sympathetic().pitch(2);
+    controls.sympatheticScale = SympatheticScale::bilaval;
+    instrument.setControls(controls);
+    const auto after = test::playLeft(instrument, 0.02);
+    CHECK(instrument.sympathetic().pitch(2) - niBefore == Approx(12.0 * std::log2((15.0 / 8.0) / (9.0 / 5.0))));
+    auto largestStep = [](const std::vector<double>& y, size_t from) {
+        double most = 0.0;
+        for (size_t n = from + 1; n < y.size(); ++n)
+            most = std::max(most, std::abs(y[n] - y[n - 1]));
+        return most;
+    };
+    const double stepBefore = largestStep(before, before.size() - 960), stepAfter = largestStep(after, 0);
+    INFO("the largest sample-to-sample step: " << stepBefore << " in the 20 ms before, " << stepAfter << " after");
+    CHECK(stepBefore > 0.0);
+    CHECK(stepAfter < 2.0 * stepBefore);
+}
