@@ -42,6 +42,23 @@ KeyboardPitches withKeyAt(int key, double pitch)
     return keys;
 }
 
+// Sa at C#3, the taraf in `scale`.
+InstrumentControls tarafControls(SympatheticScale scale)
+{
+    InstrumentControls controls;
+    controls.droneTonic = 49;
+    controls.sympatheticScale = scale;
+    return controls;
+}
+
+// `instrument` on `pack`, its controls settled.
+void start(Instrument& instrument, VoicePack& pack, const InstrumentControls& controls)
+{
+    instrument.setControls(controls);
+    instrument.install(&pack, nullptr);
+    instrument.settleControls();
+}
+
 struct Played
 {
     std::vector<double> energy;  // each sympathetic string's after the note
@@ -56,16 +73,12 @@ Played play(int key, const KeyboardPitches& keys, double seconds = 1.0, double l
     if (!pack)
         pack = buildVoicePack(sitarWithTaraf());
     Instrument instrument;
-    InstrumentControls controls;
+    InstrumentControls controls = tarafControls(SympatheticScale::kafi);
     controls.stiffness = 1e12;
     controls.exponent = 1.5;
-    controls.droneTonic = 49;
-    controls.sympatheticScale = SympatheticScale::kafi;
     controls.sympatheticLevel = level;
     controls.keyPitches = keys;
-    instrument.setControls(controls);
-    instrument.install(pack.get(), nullptr);
-    instrument.settleControls();
+    start(instrument, *pack, controls);
     if (key >= 0)
         instrument.noteOn(key, 0.8);
     Played played;
@@ -196,12 +209,8 @@ TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.
     // The spring stays as stiff while a retune scales the tension: the voice corrects for it.
     auto pack = buildVoicePack(sitarWithTaraf());
     Instrument instrument;
-    InstrumentControls controls;
-    controls.droneTonic = 49;
-    controls.sympatheticScale = SympatheticScale::kalyan;
-    instrument.setControls(controls);
-    instrument.install(pack.get(), nullptr);
-    instrument.settleControls();
+    InstrumentControls controls = tarafControls(SympatheticScale::kalyan);
+    start(instrument, *pack, controls);
     double worst = 0.0;
     for (int k = 0; k < kMaxSympatheticStrings; ++k)
     {
@@ -212,7 +221,7 @@ TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.
         for (double& c : config.contactCompliance)
             c /= voice.tuningRatio() * voice.tuningRatio();  // the dropped modes' compliance, 1 / tension
         const double hz = springLoadedFrequencyHz(config, 0);
-        const double cents = 1200.0 * std::log2(hz / (440.0 * std::pow(2.0, (instrument.sympathetic().pitch(k) - 69.0) / 12.0)));
+        const double cents = 1200.0 * std::log2(hz / frequencyOfPitch(instrument.sympathetic().pitch(k), 440.0));
         worst = std::max(worst, std::abs(cents));
     }
     INFO("the largest error " << worst << " cents");
@@ -226,12 +235,8 @@ TEST_CASE("Retuning ringing sympathetic strings clicks no more than their sound 
     // would be a jump in the output far beyond its sample-to-sample steps before.
     auto pack = buildVoicePack(sitarWithTaraf());
     Instrument instrument;
-    InstrumentControls controls;
-    controls.droneTonic = 49;
-    controls.sympatheticScale = SympatheticScale::kafi;
-    instrument.setControls(controls);
-    instrument.install(pack.get(), nullptr);
-    instrument.settleControls();
+    InstrumentControls controls = tarafControls(SympatheticScale::kafi);
+    start(instrument, *pack, controls);
     instrument.noteOn(61, 0.8);
     test::playLeft(instrument, 0.5);
     instrument.noteOff(61);

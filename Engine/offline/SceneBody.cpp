@@ -6,7 +6,6 @@
 #include "realtime/SympatheticStrings.h"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 namespace jawari::scene_reading
@@ -89,7 +88,7 @@ std::vector<BodyString> readSympatheticStrings(const json& value, const std::str
         const double pitch = sympatheticPitch(k, scale, SympatheticIntonation::just, pitchOfFrequency(sa, 440.0), 0,
                                               equalTemperament());
         BodyString s;
-        s.string = sympatheticStringAt(440.0 * std::pow(2.0, (pitch - 69.0) / 12.0));
+        s.string = sympatheticStringAt(frequencyOfPitch(pitch, 440.0));
         s.obstacles = {sympatheticBridge(s.string.lengthMetres)};
         s.excitation.amplitude = 0.0;
         strings.push_back(s);

@@ -54,23 +54,24 @@ void Instrument::stepOnBody(Sounding& s, int samples)
         pack_->sympatheticStream.start(body.partRadiation());
         pack_->bodyStreamStarted = true;
     }
+    const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
+    std::array<ModalSolver*, kSlots + kMaxSympatheticStrings> solvers{};
     for (long k = 0; k < steps; ++k)
-        pack_->bodyBlock[size_t(k)] = stepBodyOnce(s, k);
+        pack_->bodyBlock[size_t(k)] = stepBodyOnce(s, k, dt, solvers.data());
 }
 
-// One internal step k of the chunk: returns the radiated pressure (Pa), and writes the sympathetic
-// strings' share of it. A body that has run away is silenced with its strings' share.
-double Instrument::stepBodyOnce(Sounding& s, long k)
+// One internal step k (of dt seconds) of the chunk, the strings' solvers handed to the body in
+// `solvers`: returns the radiated pressure (Pa), and writes the sympathetic strings' share of it. A
+// body that has run away is silenced with its strings' share.
+double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solvers)
 {
     auto& body = *pack_->body;
-    const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
     const int taraf = sympathetic_.count();
-    std::array<ModalSolver*, kSlots + kMaxSympatheticStrings> solvers{};
     for (int i = 0; i < s.count; ++i)
-        solvers[size_t(i)] = &s.voices[size_t(i)]->beginOnBody();
+        solvers[i] = &s.voices[size_t(i)]->beginOnBody();
     for (int j = 0; j < taraf; ++j)
-        solvers[size_t(s.count + j)] = &sympathetic_.voice(j).beginOnBody();
-    body.step(solvers.data(), s.count + taraf, s.count);
+        solvers[s.count + j] = &sympathetic_.voice(j).beginOnBody();
+    body.step(solvers, s.count + taraf, s.count);
     for (int i = 0; i < s.count; ++i)
         s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
     for (int j = 0; j < taraf; ++j)

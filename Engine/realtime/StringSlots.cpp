@@ -97,7 +97,7 @@ double StringSlots::heightOf(int slot) const
 
 double StringSlots::ratioFor(double pitch) const
 {
-    const double f = controls_.current().tuningA4Hz * std::pow(2.0, (pitch - 69.0) / 12.0);
+    const double f = frequencyOfPitch(pitch, controls_.current().tuningA4Hz);
     return f / pack_->baseFundamentalHz;
 }
 

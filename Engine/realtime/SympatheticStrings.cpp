@@ -35,21 +35,30 @@ Obstacle sympatheticBridge(double lengthMetres)
     return bridge;
 }
 
+namespace
+{
+// The first mode on its bridge's spring (SpringLoadedModes.h) of the voice `config` builds, its
+// tension scaled by ratio^2 (B kept). OFF.
+double loadedHzAt(VoiceConfig config, double ratio)
+{
+    config.string.tensionNewtons = config.string.tensionNewtons * ratio * ratio;
+    return springLoadedFrequencyHz(voiceSolverConfig(config), 0);
+}
+}  // namespace
+
 StringParameters sympatheticStringAt(double hz)
 {
     // The spring stays as stiff while the tension scales, so the loaded pitch is not quite
     // proportional to the ratio: a few fixed-point steps on it.
     VoiceQuality quality;
     quality.oversampling = 1;
-    VoiceConfig config = sympatheticVoiceConfig(quality, 48000.0);
-    const double built = config.string.tensionNewtons;
+    const VoiceConfig config = sympatheticVoiceConfig(quality, 48000.0);
     double ratio = 1.0;
     for (int step = 0; step < 4; ++step)
-    {
-        ratio *= hz / springLoadedFrequencyHz(voiceSolverConfig(config), 0);
-        config.string.tensionNewtons = built * ratio * ratio;
-    }
-    return config.string;
+        ratio *= hz / loadedHzAt(config, ratio);
+    StringParameters string = config.string;
+    string.tensionNewtons = string.tensionNewtons * ratio * ratio;
+    return string;
 }
 
 VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateHz)
@@ -82,17 +91,12 @@ double loadingRatio(int i)
 }
 
 // f(r) / (r f(1)) at each table ratio: the voice's first mode on its spring with the tension scaled by r^2.
-std::vector<double> springLoading(VoiceConfig config)
+std::vector<double> springLoading(const VoiceConfig& config)
 {
-    const double built = config.string.tensionNewtons;
-    const double f1 = springLoadedFrequencyHz(voiceSolverConfig(config), 0);
+    const double f1 = loadedHzAt(config, 1.0);
     std::vector<double> loading;
     for (int i = 0; i < kLoadingPoints; ++i)
-    {
-        const double r = loadingRatio(i);
-        config.string.tensionNewtons = built * r * r;
-        loading.push_back(springLoadedFrequencyHz(voiceSolverConfig(config), 0) / (r * f1));
-    }
+        loading.push_back(loadedHzAt(config, loadingRatio(i)) / (loadingRatio(i) * f1));
     return loading;
 }
 
@@ -118,7 +122,6 @@ void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality)
         pack.sympathetic.push_back(std::make_unique<Voice>(config, solverConfig));
         pack.body->checkLinear(pack.sympathetic.back()->solver());
     }
-    pack.sympatheticString = config.string;
     pack.sympatheticRetuner = StringRetuner(config.string, solverConfig.modes.size());
     // The pitch it sounds on its bridge's spring (SpringLoadedModes.h), which the tunings aim at.
     pack.sympatheticFundamentalHz = springLoadedFrequencyHz(solverConfig, 0);
@@ -167,7 +170,7 @@ void SympatheticStrings::retune(int k)
 {
     const auto& c = controls_.current();
     // The ratio whose loaded pitch r f(1) loading(r) is the note's: a few fixed-point steps.
-    const double wanted = c.tuningA4Hz * std::pow(2.0, (pitch_[size_t(k)] - 69.0) / 12.0) / pack_->sympatheticFundamentalHz;
+    const double wanted = frequencyOfPitch(pitch_[size_t(k)], c.tuningA4Hz) / pack_->sympatheticFundamentalHz;
     double ratio = wanted;
     for (int step = 0; step < 4; ++step)
         ratio = wanted / loadingAt(pack_->sympatheticLoading, ratio);

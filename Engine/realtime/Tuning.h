@@ -58,6 +58,12 @@ inline double pitchOfFrequency(double hz, double a4Hz)
     return 69.0 + 12.0 * std::log2(hz / a4Hz);
 }
 
+// a4Hz 2^((pitch - 69) / 12): the frequency of a pitch. RT.
+inline double frequencyOfPitch(double pitch, double a4Hz)
+{
+    return a4Hz * std::pow(2.0, (pitch - 69.0) / 12.0);
+}
+
 class TuningError : public std::runtime_error
 {
 public:

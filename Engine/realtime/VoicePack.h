@@ -92,10 +92,9 @@ struct VoicePack
     bool bodyStreamStarted = false;
     std::vector<double> bodyBlock;
     // The sympathetic strings on that body (SympatheticStrings.h; none without a body): their voices,
-    // their own string and retuner, the fundamental their voices were built at, and one chunk of the
+    // their retuner, the fundamental their voices were built at, and one chunk of the
     // radiated pressure that their forces alone make (SharedBody::partRadiation) and its stream.
     std::vector<std::unique_ptr<Voice>> sympathetic;
-    StringParameters sympatheticString;
     StringRetuner sympatheticRetuner;
     double sympatheticFundamentalHz = 0.0;
     // The loaded pitch's share of the ratio, f(r) / (r f(1)), at log-spaced ratios (SympatheticStrings.cpp):
