@@ -260,8 +260,8 @@ TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]"
     refused(R"("body": {"model": "tanpura", "strings": [{"string": {"tension": -1}}]}})",
             "body.strings[0].string.tension: must be > 0");
     refused(R"("body": {"model": "tanpura", "strings": [{"strings": {}}]}})", "body.strings[0].strings: unknown field");
-    refused(R"("body": {"model": "tanpura", "strings": [{}]}, "simulation": {"method": "realtime"}})",
-            "body.strings: other strings on the body are rendered by the reference only");
+    refused(R"("body": {"model": "tanpura", "strings": [{}]}, "simulation": {"method": "penalty"}})",
+            "simulation.method: other strings on the body take the default method");
     refused(R"("body": {"model": "tanpura"}, "pickup": {"quantity": "bridge_force"},
         "simulation": {"method": "realtime"}})", "pickup.quantity: \"bridge_force\" is read by the reference only");
 }

@@ -3,12 +3,12 @@
 #include "offline/AutomaticQuality.h"
 #include "offline/CpuClock.h"
 #include "offline/DstTransform.h"
+#include "offline/RealtimeRender.h"
 #include "offline/Resampler.h"
 #include "physics/ModalBody.h"
 #include "physics/ModalSolver.h"
 #include "physics/StringDiscretisation.h"
 #include "realtime/Denormals.h"
-#include "realtime/Voice.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +43,8 @@ struct SolverSetup
     BridgeReading bridge;
 };
 
-// One flag per obstacle: whether it stands on the body (every obstacle without a body).
+}  // namespace
+
 std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body)
 {
     std::vector<char> on(obstacleCount, body ? 0 : 1);
@@ -53,6 +54,8 @@ std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<Scen
     return on;
 }
 
+namespace
+{
 // Which of the configuration's contact points stand on the body (every obstacle's without a body):
 // those of the body's obstacles (each obstacle's points follow the previous one's, contactPointsOnGrid's
 // order); the polarisations' coupling points after them do not.
@@ -187,8 +190,9 @@ void run(ModalSolver& solver, const Scene& scene, const BridgeReading& bridge, l
         options.progress(1.0);
 }
 
-// What every render reports about its solver before it runs.
-void describe(ModalSolver& solver, double rateHz, RenderStats& stats)
+}  // namespace
+
+void describeSolver(ModalSolver& solver, double rateHz, RenderStats& stats)
 {
     stats.modes = solver.modeCount();
     stats.activeModes = solver.activeModeCount();
@@ -198,103 +202,6 @@ void describe(ModalSolver& solver, double rateHz, RenderStats& stats)
     stats.initialEnergy = H.total;
     stats.initialContactEnergy = H.contact;
 }
-
-VoiceConfig voiceConfigFor(const Scene& scene)
-{
-    const auto q = automaticQuality(scene);
-    VoiceConfig v;
-    v.string = scene.string;
-    // Only what the string can reach (AutomaticQuality.h, reachAt): an obstacle beyond it never touches.
-    const auto onBody = obstaclesOnBody(scene.obstacles.size(), scene.body);
-    for (size_t i = 0; i < scene.obstacles.size(); ++i)
-        if (obstacleReachable(scene, scene.obstacles[i]))
-        {
-            v.obstacles.push_back(scene.obstacles[i]);
-            v.obstacleOnBody.push_back(onBody[i]);
-        }
-    if (scene.body)
-    {
-        v.body = scene.body->body;
-        v.bodyCoupling = scene.body->coupling;
-    }
-    v.excitationPosition = scene.excitation.position;
-    v.pickupPosition = scene.pickup.position;
-    v.quantity = scene.pickup.quantity;
-    v.modes = q.modes;
-    v.oversampling = q.oversampling;
-    v.hostRateHz = scene.simulation.outputRateHz;
-    v.residualCompliance = scene.simulation.residualCompliance;
-    v.residualComplianceLoss = scene.simulation.residualComplianceLoss;
-    v.staticPickupAboveNyquist = scene.simulation.staticPickup;
-    if (scene.simulation.contact == ContactMethod::energyConserving)
-        v.reach = [scene](double x) { return reachAt(scene, x); };
-    v.method = scene.simulation.contact;
-    v.secondPolarisation = scene.secondPolarisation;
-    return v;
-}
-
-// Why a voice render stopped: the explicit methods lose stability at stiff contact (a higher rate
-// or the default method helps); the default never gains energy, so its guard tripping is a fault.
-std::string lostStabilityMessage(const Simulation& simulation, long restarts)
-{
-    const std::string what = std::string("the ") + methodName(simulation)
-                             + " method's output ran beyond what its energy allows (" + std::to_string(restarts)
-                             + " restarts from rest)";
-    if (simulation.contact == ContactMethod::energyConserving)
-        return what + "; this method never gains energy, so this is a fault in Jawari: please report the scene";
-    return what + ": it lost stability; try a higher rate, or the default method ("
-           + contactMethodName(ContactMethod::energyConserving).sceneName + ")";
-}
-
-// The voice, plucked from the scene's triangular shape at rest like the reference, its decimator's
-// latency removed so output sample m is the string at t = m / output rate.
-RenderResult renderRealtime(const Scene& scene, const RenderOptions& options)
-{
-    Voice voice(voiceConfigFor(scene));
-    voice.setInitialShape(scene.excitation.position, scene.excitation.amplitude);
-    RenderResult result;
-    result.outputRateHz = scene.simulation.outputRateHz;
-    auto& stats = result.stats;
-    describe(voice.solver(), voice.internalRateHz(), stats);
-    const size_t count = static_cast<size_t>(std::llround(scene.simulation.durationSeconds * result.outputRateHz));
-    const size_t latency = static_cast<size_t>(voice.latencySamples());
-    std::vector<double> raw(count + latency);
-    const size_t block = 256;
-    ScopedFlushDenormals noDenormals;
-    const double start = threadCpuSeconds();
-    for (size_t m = 0; m < raw.size(); m += block)
-    {
-        const size_t n = std::min(block, raw.size() - m);
-        for (size_t i = 0; i < n; ++i)
-        {
-            voice.process(raw.data() + m + i, 1);
-            const long iterations = voice.takeIterationCount();
-            const int most = voice.takeMaxIterations();
-            stats.newtonIterationsTotal += iterations;
-            stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, most);
-            if (options.logEnergy && m + i < count)
-            {
-                const auto H = voice.solver().energy();
-                result.energy.push_back(
-                    {double(m + i + 1) / result.outputRateHz, H.total, H.contact, iterations, most});
-            }
-        }
-        stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, voice.takeMaxPenetration());
-        if (options.progress && !options.progress(double(m) / double(raw.size())))
-            throw std::runtime_error("render cancelled");
-    }
-    stats.cpuSeconds = threadCpuSeconds() - start;
-    stats.steps = static_cast<long long>(raw.size()) * voice.oversampling();
-    if (voice.blowUps() > 0)
-        throw std::runtime_error(lostStabilityMessage(scene.simulation, voice.blowUps()));
-    result.output.assign(raw.begin() + static_cast<std::ptrdiff_t>(latency), raw.end());
-    for (double v : result.output)
-        if (!std::isfinite(v))
-            throw std::runtime_error("the simulation produced a non-finite sample");
-    return result;
-}
-
-}  // namespace
 
 std::unique_ptr<ModalSolver> referenceSolver(const Scene& scene)
 {
@@ -313,7 +220,7 @@ std::vector<double> renderInternal(const Scene& scene, long long steps, const Re
     ModalSolver solver(setup.config);
     solver.setInitialDisplacement(setup.initial);
     RenderStats stats;
-    describe(solver, setup.rateHz, stats);
+    describeSolver(solver, setup.rateHz, stats);
     std::vector<double> out;
     out.reserve(static_cast<size_t>(steps));
     run(
@@ -422,7 +329,7 @@ RenderResult renderScene(const Scene& scene, const RenderOptions& options)
 
     RenderResult result;
     result.outputRateHz = scene.simulation.outputRateHz;
-    describe(solver, setup.rateHz, result.stats);
+    describeSolver(solver, setup.rateHz, result.stats);
     const double duration = scene.simulation.durationSeconds;
     const long long steps = std::llround(duration * setup.rateHz);
     const size_t outputCount = static_cast<size_t>(std::llround(duration * result.outputRateHz));

@@ -164,14 +164,25 @@ void validateSceneBody(const Scene& scene)
         return;
     }
     const auto& body = *scene.body;
-    if (!body.strings.empty() && !scene.simulation.reference)
-        throw SceneError("body.strings", "other strings on the body are rendered by the reference only (\"method\": "
-                                         "\"reference\")");
     for (size_t i = 0; i < body.obstacles.size(); ++i)
         if (body.obstacles[i] < 0 || size_t(body.obstacles[i]) >= scene.obstacles.size())
             throw SceneError("body.obstacles[" + std::to_string(i) + "]",
                              "no obstacle " + std::to_string(body.obstacles[i]) + " (the scene has "
                                  + std::to_string(scene.obstacles.size()) + ")");
+    if (!body.strings.empty() && !scene.simulation.reference)
+    {
+        // The voices stand on the instrument's shared body: every point of theirs on its bridge,
+        // solved by the scheme (the SharedBody's rules).
+        std::vector<char> onBody(scene.obstacles.size(), 0);
+        for (const int i : body.obstacles)
+            onBody[size_t(i)] = 1;
+        if (std::find(onBody.begin(), onBody.end(), 0) != onBody.end())
+            throw SceneError("body.obstacles", "with other strings on the body the \"realtime\" method stands every "
+                                               "obstacle on it (list them all, or use \"method\": \"reference\")");
+        if (scene.simulation.contact != ContactMethod::energyConserving)
+            throw SceneError("simulation.method", "other strings on the body take the default method (\"realtime\") "
+                                                  "or the reference");
+    }
     try
     {
         validateBody(body.body);
