@@ -9,6 +9,7 @@ bash tools/build.sh
 bash tools/deps.sh python3-matplotlib  # the plots
 mkdir -p Resources/Charts
 ./build/Tests/jawari-accuracy Resources/Charts/accuracy.csv
+./build/Tests/jawari-accuracy Resources/Charts/accuracy-body.csv --body
 ./build/Tests/jawari-stability Resources/Charts/stability.csv
 ./build/Tests/jawari-scaling Resources/Charts/scaling.csv
 ./build/Tests/jawari-polyphony Resources/Charts/polyphony.csv

@@ -6,6 +6,7 @@ and jawari-polyphony.
 
 Writes accuracy.png (error against real-time factor, one curve per method, points labelled (M, R),
 with the floor), accuracy-presets.png (the named settings on every preset's scene, with its floors),
+accuracy-body.png (the same through the tanpura body, from accuracy-body.csv),
 block-load.png (jawari-soak's per-block load against the block size), stability.png (where each
 method fails), scaling.png (cost against M and against P) and
 polyphony.png (one core's load against the number of sounding strings); with a second argument
@@ -121,9 +122,13 @@ def accuracy_chart(directory):
     save(fig, directory, "accuracy.png")
 
 
-def presets_chart(directory):
+def presets_chart(directory, csv_name="accuracy.csv", png_name="accuracy-presets.png",
+                  title="Each preset's scene: the named settings against the reference, and the reference against itself"):
     """The named settings on every scene (one per factory preset), each against its floors."""
-    data = rows(os.path.join(directory, "accuracy.csv"))
+    path = os.path.join(directory, csv_name)
+    if not os.path.exists(path):
+        return
+    data = rows(path)
     scenes = list(dict.fromkeys(r["scene"] for r in data))
     fig, axes = plt.subplots(1, 2, figsize=(14, 5.5))
     for ax, (key, label) in zip(axes, (("lsd_db_1s", "LSD over 0-1 s (dB)"),
@@ -147,8 +152,7 @@ def presets_chart(directory):
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="lower left")
-    save(fig, directory, "accuracy-presets.png",
-         "Each preset's scene: the named settings against the reference, and the reference against itself")
+    save(fig, directory, png_name, title)
 
 
 def block_load_chart(directory):
@@ -316,8 +320,11 @@ if __name__ == "__main__":
         sys.exit(0)
     accuracy_chart(directory)
     presets_chart(directory)
+    presets_chart(directory, "accuracy-body.csv", "accuracy-body.png",
+                  "Through the tanpura body (the radiated sound): the named settings against the reference, "
+                  "and the reference against itself")
     block_load_chart(directory)
     stability_chart(directory)
     scaling_chart(directory)
     polyphony_chart(directory)
-    print(f"wrote accuracy.png, accuracy-presets.png, block-load.png, stability.png, scaling.png, polyphony.png in {directory}")
+    print(f"wrote accuracy.png, accuracy-presets.png, accuracy-body.png, block-load.png, stability.png, scaling.png, polyphony.png in {directory}")

@@ -7,12 +7,15 @@
 // Each scene first prints its floor: the reference against itself with the pluck's amplitude
 // raised by 1e-6 and by 1e-4 (rows floor:1e-06, floor:0.0001); a difference below the floor
 // says nothing about the scheme. Writes CSV to stdout (or the file given).
+// --body: the preset scenes through the tanpura body (every obstacle on it), their radiated sound
+// (the "pressure" pickup), the named qualities only: the quality table through the body.
 //
-//   jawari-accuracy [out.csv] [--quick]
+//   jawari-accuracy [out.csv] [--quick] [--body]
 
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
+#include "physics/FactoryBodies.h"
 #include "physics/StringModel.h"
 #include "realtime/Quality.h"
 
@@ -24,17 +27,33 @@
 
 using namespace jawari;
 
+namespace
+{
+// The scene on the tanpura body, every obstacle on it, heard by the body's radiated sound.
+Scene onTanpuraBody(Scene scene)
+{
+    scene.body = SceneBody{*factoryBody("tanpura"), {}, 1.0, {}};
+    for (size_t i = 0; i < scene.obstacles.size(); ++i)
+        scene.body->obstacles.push_back(int(i));
+    scene.pickup.quantity = PickupQuantity::pressure;
+    return scene;
+}
+}  // namespace
+
 int main(int argc, char** argv)
 {
     const char* outPath = nullptr;
-    bool quick = false;
+    bool quick = false, body = false;
     for (int i = 1; i < argc; ++i)
     {
         if (std::strcmp(argv[i], "--quick") == 0)
             quick = true;
+        else if (std::strcmp(argv[i], "--body") == 0)
+            body = quick = true;
         else if (argv[i][0] == '-' || outPath != nullptr)
         {
-            std::fprintf(stderr, "jawari-accuracy: unknown option or second file '%s'\nusage: jawari-accuracy [out.csv] [--quick]\n",
+            std::fprintf(stderr, "jawari-accuracy: unknown option or second file '%s'\nusage: jawari-accuracy [out.csv] "
+                                 "[--quick] [--body]\n",
                          argv[i]);
             return 2;
         }
@@ -84,14 +103,20 @@ int main(int argc, char** argv)
     // preset besides: the drone's Sa and Pa on the tanpura's point bridge, the Sitar's string on a point
     // at its bridge's apex and on its parabolic bridge, the bass string rattling on its frets, the
     // free string, and the tanpura on its bridge and thread in two polarisations.
-    for (const char* name : {"paper-centre", "paper-tanpura", "tanpura-sa", "tanpura-pa", "sitar-point", "sitar-bridge",
-                             "bass-frets", "free-string", "tanpura-thread"})
+    const std::vector<const char*> presetScenes = {"tanpura-sa", "tanpura-pa", "sitar-point", "sitar-bridge",
+                                                   "tanpura-thread"};
+    const std::vector<const char*> allScenes = {"paper-centre", "paper-tanpura", "tanpura-sa",
+                                                "tanpura-pa",   "sitar-point",   "sitar-bridge",
+                                                "bass-frets",   "free-string",   "tanpura-thread"};
+    for (const char* name : body ? presetScenes : allScenes)
     {
         ++sceneIndex;
         // The reference at the paper's configuration (1001 modes, 2 MHz, a bridge's points on its
         // grid) on every scene: sitar-bridge's converged one (ten CPU minutes a second, three times
         // over with the floors) is measured against the voice by the plugin tests' ConvergedReferenceTests.
         auto base = loadSceneFile(std::string(JAWARI_RESOURCES_DIR) + "/Scenes/" + name + ".json");
+        if (body)
+            base = onTanpuraBody(base);
         base.simulation.forgetConfiguration();
         const auto reference = renderScene(base);
         const auto ref = lowpass(reference.output, 48000, 20000);
