@@ -48,6 +48,12 @@ public:
     // of its solution (the known powers the next solves start from).
     void scalarRequest(int j, double s, double b, ScalarContactRequest& request) const;
     void recordScalar(int j, const ScalarContactSolution& solution);
+    // RT: point j's scalar equation alone (every other point's force 0), as solve() poses it when j
+    // is the one point that presses; nothing kept. A caller's trial (SharedBody's secant).
+    ScalarContactSolution solveAlone(int j, double s, double b) const
+    {
+        return solveScalarContact(points_[size_t(j)].law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1]);
+    }
 
 private:
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);

@@ -98,6 +98,23 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
     return force;
 }
 
+double ModalSolver::trialOnMovingBridge(double before, double move) const
+{
+    if (pressing_.empty())
+        return 0.0;
+    const int j = pressing_[0];
+    if (pressing_.size() > 1 || contacts_[j].law.bilateral)
+        return std::numeric_limits<double>::quiet_NaN();
+    // s and b as solveOnMovingBridge() forms them.
+    const double predicted = pairedOnBridge_ ? pairU_ : uTilde_[j];
+    const double s = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
+    const double b = predicted - uCPrev_[j] - compliance_.restoring(j) - move;
+    const auto solution = method_ == ContactMethod::quadraticSpline
+                              ? splines_[size_t(j)].solve(s, b, system_.coupling()(j, j))
+                              : system_.solveAlone(j, s, b);
+    return contacts_[j].weight * solution.slope;
+}
+
 void ModalSolver::finishOnMovingBridge()
 {
     if (pairedOnBridge_)

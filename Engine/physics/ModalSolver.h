@@ -126,6 +126,11 @@ public:
     void predictOnMovingBridge();
     double solveOnMovingBridge(double before, double move);
     void finishOnMovingBridge();
+    // RT, between predictOnMovingBridge() and the step's first solveOnMovingBridge(): what that solve
+    // would return if the point that pressed alone at the last step presses alone again (its scalar
+    // equation, the others off): a trial for the caller's iteration, nothing solved or kept. 0 if no
+    // point pressed; NaN if two did, or a bilateral one (then only a solve tells).
+    double trialOnMovingBridge(double before, double move) const;
 
     // RT: a point force (N) at the excitation position, applied explicitly from the next step on
     // (part of the prediction: q~ += (dt^2/mu) F phi_e) until set back to 0.

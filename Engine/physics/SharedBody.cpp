@@ -69,17 +69,13 @@ void SharedBody::silence()
     force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = playedForce_ = 0.0;
 }
 
-// The force at one W: the strings before split solved with the bridge there, the linear ones
-// after it from their affine fit (fitLinear).
+// The force at one W of the strings before split, each solved with the bridge there.
 double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
 {
-    ++evaluations_;
     playedForce_ = 0.0;
     for (int i = 0; i < split_; ++i)
         playedForce_ += strings[i]->solveOnMovingBridge(before, bridge - before);
-    if (split_ == count_)
-        return playedForce_;
-    return playedForce_ + linearForce_ + linearSlope_ * (bridge - linearAt_);
+    return playedForce_;
 }
 
 // The linear strings' force with the bridge at W, each solved there (and keeping that solve).
@@ -101,33 +97,67 @@ void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at
     linearSlope_ = (solveLinear(strings, before, at + kStep) - linearForce_) / kStep;
 }
 
+namespace
+{
+// The secant on R(W) from w0 (whose residual is r0): the next W from `slope` (R' as last measured,
+// renewed by each secant step), then from the last two. Stops at a residual within tolerance(W),
+// one that no longer moves, or when `evaluations` (of R, counted here) reaches `most`.
+template <typename Residual, typename Tolerance>
+double secant(Residual&& residual, Tolerance&& tolerance, double w0, double r0, double& slope, int& evaluations,
+              int most)
+{
+    if (r0 == 0.0 || std::abs(r0) <= tolerance(w0))
+        return w0;
+    double w1 = w0 - r0 / slope;
+    while (true)
+    {
+        const double r1 = residual(w1);
+        ++evaluations;
+        if (std::abs(r1) <= tolerance(w1) || r1 == r0 || evaluations >= most)
+            return w1;
+        const double s = (r1 - r0) / (w1 - w0);
+        if (std::isfinite(s) && s > 0.5)  // R' = 1 + beta F' >= 1 where F is monotone
+            slope = s;
+        w0 = w1;
+        r0 = r1;
+        w1 -= r1 / slope;
+    }
+}
+}  // namespace
+
+// The played strings' trial force at W (ModalSolver::trialOnMovingBridge): NaN if one has none.
+double SharedBody::trialForce(ModalSolver* const* strings, double before, double bridge) const
+{
+    double force = 0.0;
+    for (int i = 0; i < split_; ++i)
+        force += strings[i]->trialOnMovingBridge(before, bridge - before);
+    return force;
+}
+
 // W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the W that solves it with the played
 // strings' force as the last step left it (and the linear strings' affine force), and the last
-// step's slope R'. Stops when the residual is rounding's share of the bridge's motion; the played
+// step's slope R'. First on trials (each played string's last lone presser alone, no solve), then
+// on solves from the trials' answer: most steps press where the last one did, and one solve
+// confirms it. Stops when the residual is rounding's share of the bridge's motion; the played
 // strings keep the solve of the last W, and playedForce_ is theirs.
 double SharedBody::solveBridge(ModalSolver* const* strings, double before, double predicted)
 {
     auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(predicted - before)) + 1e-30; };
     if (split_ < count_)
         fitLinear(strings, before, predicted + beta_ * force_);
-    double w0 = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
-    double r0 = w0 - predicted - beta_ * evaluate(strings, before, w0);
-    if (r0 == 0.0 || (split_ < count_ && std::abs(r0) <= tolerance(w0)))
-        return w0;
-    double w1 = w0 - r0 / slope_;
+    auto linear = [&](double w) { return split_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
+    double w = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
     constexpr int kMostEvaluations = 16;
-    while (true)
+    if (const double trial = trialForce(strings, before, w); std::isfinite(trial))
     {
-        const double r1 = w1 - predicted - beta_ * evaluate(strings, before, w1);
-        if (std::abs(r1) <= tolerance(w1) || r1 == r0 || evaluations_ >= kMostEvaluations)
-            return w1;
-        const double slope = (r1 - r0) / (w1 - w0);
-        if (std::isfinite(slope) && slope > 0.5)  // R' = 1 + beta F' >= 1 where F is monotone
-            slope_ = slope;
-        w0 = w1;
-        r0 = r1;
-        w1 -= r1 / slope_;
+        auto trialResidual = [&](double x) { return x - predicted - beta_ * (trialForce(strings, before, x) + linear(x)); };
+        trials_ = 1;
+        w = secant(trialResidual, tolerance, w, w - predicted - beta_ * (trial + linear(w)), slope_, trials_,
+                   kMostEvaluations);
     }
+    auto residual = [&](double x) { return x - predicted - beta_ * (evaluate(strings, before, x) + linear(x)); };
+    evaluations_ = 1;
+    return secant(residual, tolerance, w, residual(w), slope_, evaluations_, kMostEvaluations);
 }
 
 // The copy of the modes that the strings after split drive: the same update, their force alone.
@@ -151,14 +181,17 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
                                               weights_.data(), K, K, radiated);
     for (int i = 0; i < count; ++i)
         strings[i]->predictOnMovingBridge();
-    evaluations_ = 0;
+    evaluations_ = trials_ = 0;
     split_ = split;
     count_ = count;
     // One way, the strings' bridge stands still: their solve once, with it at rest.
     const double before = oneWay_ ? 0.0 : bridgeBefore_;
     const double bridge = oneWay_ ? 0.0 : solveBridge(strings, before, predicted);
     if (oneWay_)
+    {
         evaluate(strings, 0.0, 0.0);
+        evaluations_ = 1;
+    }
     force_ = playedForce_;
     if (split < count)
     {

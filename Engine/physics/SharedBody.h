@@ -8,10 +8,13 @@
 // obstacle raised by w^{n-1} at n-1 and by W at n+1; their solution pushes the body with
 // F(W) = sum_i sum_j w_j G_j. The body's modes then reach z^{n+1} = a z^n - e z^{n-1} + (dt^2 kappa / m_k) F,
 // so W = w~ + beta F(W), beta = dt^2 kappa^2 sum_k 1/m_k. A step solves that one scalar equation by
-// the secant method, each evaluation a contact solve of every string with the bridge at W (the
-// modes' pass runs once): the joined solver's equations, solved to rounding, so its energy balance.
-// beta is small beside a string's own compliance at its points (a tanpura's body: a few per cent of
-// it), so the secant converges in a few evaluations; with nothing pressing, F = 0 and one suffices.
+// the secant method: first on trials, each played string's force from the one point that pressed at
+// its last step, alone (a scalar equation, nothing kept), then on contact solves of every string
+// with the bridge at W (the modes' pass runs once), from the trials' answer: most steps press where
+// the last one did, and one solve confirms it. The joined solver's equations, solved to rounding,
+// so its energy balance. beta is small beside a string's own compliance at its points (a tanpura's
+// body: a few per cent of it), so the secant converges in a few evaluations; with nothing pressing,
+// F = 0 and one suffices.
 
 #include "physics/ExactOscillator.h"
 #include "physics/ModalBody.h"
@@ -54,11 +57,13 @@ public:
     double radiation() const { return radiation_; }  // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
     double partRadiation() const { return partRadiation_; }  // RT: the same from the forces of the strings after split
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
+    int lastTrials() const { return trials_; }            // RT: its trials (ModalSolver::trialOnMovingBridge)
     bool atRest() const;                               // RT: every mode below 1e-18 m
     void silence();                                    // RT: every mode at rest
 
 private:
     double evaluate(ModalSolver* const* strings, double before, double bridge);
+    double trialForce(ModalSolver* const* strings, double before, double bridge) const;
     double solveLinear(ModalSolver* const* strings, double before, double bridge);
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
@@ -77,7 +82,7 @@ private:
     int split_ = 0, count_ = 0;
     bool oneWay_ = false;
     double slope_ = 1.0;  // R'(W) as the last secant measured it
-    int evaluations_ = 0;
+    int evaluations_ = 0, trials_ = 0;
 };
 
 }  // namespace jawari
