@@ -100,16 +100,20 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
 
 double ModalSolver::trialOnMovingBridge(double before, double move) const
 {
-    if (pressing_.empty())
+    int j = 0;  // a string's one point: its scalar equation is its solve, the trial exact
+    if (P_ == 0 || (P_ > 1 && pressing_.empty()))
         return 0.0;
-    const int j = pressing_[0];
-    if (pressing_.size() > 1 || contacts_[j].law.bilateral)
-        return std::numeric_limits<double>::quiet_NaN();
-    // s and b as solveOnMovingBridge() forms them.
+    if (P_ > 1)
+    {
+        j = pressing_[0];
+        if (pressing_.size() > 1 || contacts_[j].law.bilateral)
+            return std::numeric_limits<double>::quiet_NaN();
+    }
+    // s and b as solveOnMovingBridge() forms them, and the equation as solveContacts() poses it.
     const double predicted = pairedOnBridge_ ? pairU_ : uTilde_[j];
     const double s = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
     const double b = predicted - uCPrev_[j] - compliance_.restoring(j) - move;
-    const auto solution = method_ == ContactMethod::quadraticSpline
+    const auto solution = method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
                               ? splines_[size_t(j)].solve(s, b, system_.coupling()(j, j))
                               : system_.solveAlone(j, s, b);
     return contacts_[j].weight * solution.slope;

@@ -129,7 +129,8 @@ public:
     // RT, between predictOnMovingBridge() and the step's first solveOnMovingBridge(): what that solve
     // would return if the point that pressed alone at the last step presses alone again (its scalar
     // equation, the others off): a trial for the caller's iteration, nothing solved or kept. 0 if no
-    // point pressed; NaN if two did, or a bilateral one (then only a solve tells).
+    // point pressed; NaN if two did, or a bilateral one (then only a solve tells). A string with one
+    // point: its scalar equation, which is its solve, whatever it did before.
     double trialOnMovingBridge(double before, double move) const;
 
     // RT: a point force (N) at the excitation position, applied explicitly from the next step on

@@ -87,12 +87,28 @@ double SharedBody::solveLinear(ModalSolver* const* strings, double before, doubl
     return force;
 }
 
+// The linear strings' trial force at W (exact for a string with one point), NaN if one has none.
+double SharedBody::trialLinear(ModalSolver* const* strings, double before, double bridge) const
+{
+    double force = 0.0;
+    for (int i = split_; i < count_; ++i)
+        force += strings[i]->trialOnMovingBridge(before, bridge - before);
+    return force;
+}
+
 // Every point of a linear string is a spring, so its force is affine in W: measured at two
-// displacements, it needs no solve per secant evaluation.
+// displacements (by trials where they are exact, else by solves), it needs no solve per secant
+// evaluation.
 void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at)
 {
     constexpr double kStep = 1e-9;  // m: any step measures an affine force; this one keeps rounding small
     linearAt_ = at;
+    linearForce_ = trialLinear(strings, before, at);
+    if (std::isfinite(linearForce_))
+    {
+        linearSlope_ = (trialLinear(strings, before, at + kStep) - linearForce_) / kStep;
+        return;
+    }
     linearForce_ = solveLinear(strings, before, at);
     linearSlope_ = (solveLinear(strings, before, at + kStep) - linearForce_) / kStep;
 }

@@ -64,6 +64,7 @@ public:
 private:
     double evaluate(ModalSolver* const* strings, double before, double bridge);
     double trialForce(ModalSolver* const* strings, double before, double bridge) const;
+    double trialLinear(ModalSolver* const* strings, double before, double bridge) const;
     double solveLinear(ModalSolver* const* strings, double before, double bridge);
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
