@@ -145,6 +145,33 @@ struct VoicesOnBody
     std::vector<char> plucked;  // per voice: plucked from a shape (the others start at rest)
     std::unique_ptr<SharedBody> body;
     int split = 0;
+
+    // One host sample's internal steps of every voice and the body, as the instrument steps them
+    // (Instrument::stepBodyOnce): into `internal`, the played string's pickup, or the body's
+    // radiated pressure through `radiated` when given.
+    void stepHostSample(double* internal, VoiceMotion::PickupStream* radiated)
+    {
+        // A string never plucked can hold no more than the plucked ones have had between them (the
+        // instrument's ceiling for its sympathetic strings).
+        double supply = 0.0;
+        for (size_t i = 0; i < voices.size(); ++i)
+            supply += plucked[i] ? voices[i]->energyCeiling() : 0.0;
+        for (size_t i = 0; i < voices.size(); ++i)
+            if (!plucked[i])
+                voices[i]->allowEnergy(supply);
+        const double dt = voices[0]->solver().timeStep();
+        for (int k = 0; k < voices[0]->oversampling(); ++k)
+        {
+            for (auto& voice : voices)
+                voice->beginOnBody();
+            body->step(solvers.data(), static_cast<int>(solvers.size()), split);
+            internal[k] = voices[0]->finishOnBody();
+            for (size_t i = 1; i < voices.size(); ++i)
+                voices[i]->finishOnBody();
+            if (radiated != nullptr)
+                internal[k] = radiated->advance(body->radiation(), PickupQuantity::pressure, dt);
+        }
+    }
 };
 
 VoicesOnBody voicesOnBody(const Scene& scene)
@@ -200,7 +227,6 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
     auto v = voicesOnBody(scene);
     Voice& played = *v.voices[0];
     const int os = played.oversampling();
-    const double dt = played.solver().timeStep();
     const bool pressure = scene.pickup.quantity == PickupQuantity::pressure;
     RenderResult result;
     result.outputRateHz = scene.simulation.outputRateHz;
@@ -213,30 +239,11 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
     std::vector<double> internal(static_cast<size_t>(os));
     VoiceMotion::PickupStream radiated;
     radiated.start(v.body->radiation());
-    const int strings = static_cast<int>(v.voices.size());
     ScopedFlushDenormals noDenormals;
     const double start = threadCpuSeconds();
     for (size_t m = 0; m < raw.size(); ++m)
     {
-        // A string never plucked can hold no more than the plucked ones have had between them (the
-        // instrument's ceiling for its sympathetic strings).
-        double supply = 0.0;
-        for (int i = 0; i < strings; ++i)
-            supply += v.plucked[size_t(i)] ? v.voices[size_t(i)]->energyCeiling() : 0.0;
-        for (int i = 0; i < strings; ++i)
-            if (!v.plucked[size_t(i)])
-                v.voices[size_t(i)]->allowEnergy(supply);
-        for (int k = 0; k < os; ++k)
-        {
-            for (auto& voice : v.voices)
-                voice->beginOnBody();
-            v.body->step(v.solvers.data(), strings, v.split);
-            internal[size_t(k)] = played.finishOnBody();
-            for (int i = 1; i < strings; ++i)
-                v.voices[size_t(i)]->finishOnBody();
-            if (pressure)
-                internal[size_t(k)] = radiated.advance(v.body->radiation(), PickupQuantity::pressure, dt);
-        }
+        v.stepHostSample(internal.data(), pressure ? &radiated : nullptr);
         if (m == 0)
             decimator.prime(internal[0]);  // held before t = 0, as the reference's start
         raw[m] = decimator.process(internal.data());
