@@ -18,6 +18,9 @@ struct InstrumentActivity
     long workerRevoked = 0;     // string chunks taken back from the second core, late
     long workerUnstarted = 0;   // string chunks the second core had not started when collected
     long limitedSamples = 0;    // output samples the guard changed (guardOutput)
+    long bodySteps = 0;         // internal steps of the strings on the body (SharedBody::step)
+    long bodySolves = 0;        // their contact solves of every played string, summed over the steps
+    long bodyTrials = 0;        // their trials (SharedBody::lastTrials), likewise
 };
 
 }  // namespace jawari

@@ -72,6 +72,9 @@ double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** so
     for (int j = 0; j < taraf; ++j)
         solvers[s.count + j] = &sympathetic_.voice(j).beginOnBody();
     body.step(solvers, s.count + taraf, s.count);
+    ++activity_.bodySteps;
+    activity_.bodySolves += body.lastEvaluations();
+    activity_.bodyTrials += body.lastTrials();
     for (int i = 0; i < s.count; ++i)
         s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
     for (int j = 0; j < taraf; ++j)
