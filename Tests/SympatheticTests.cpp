@@ -227,6 +227,14 @@ TEST_CASE("A scene's sympathetic strings: tuned on their bridges' springs, bad i
     CHECK_THAT(refusal("penalty", ""), Catch::Contains("simulation.method"));
     CHECK(refusal("realtime", "") == "accepted");
     CHECK(refusal("reference", R"("obstacles": [0], )") == "accepted");
+    // Their energy log is the reference's.
+    Scene voices = sceneWith(R"({"count": 2, "sa": 138.59})");
+    setMethodByName(voices.simulation, "realtime");
+    voices.simulation.durationSeconds = 0.01;
+    RenderOptions logged;
+    logged.logEnergy = true;
+    CHECK_THROWS_WITH(renderScene(voices, logged), Catch::Contains("energy log"));
+    CHECK(renderScene(voices).output.size() == 480);
 }
 
 TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.1 cent", "[sympathetic][instrument]")
