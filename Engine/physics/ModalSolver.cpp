@@ -62,6 +62,7 @@ void ModalSolver::finishStep(const ScalarContactSolution& solution)
 void ModalSolver::predictOnMovingBridge()
 {
     lastIterations_ = 0;
+    trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();  // no trial of this step yet
     pairedOnBridge_ = state_.pairable() && externalForce_ == 0.0;
     if (pairedOnBridge_)
     {
@@ -87,7 +88,18 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         s_[j] = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
         b_[j] = predicted - uCPrev_[j] - compliance_.restoring(j) - move;
     }
-    lastIterations_ += solveContacts();
+    if (P_ == 1 && before == trialBefore_ && move == trialMove_)
+    {
+        // The step's last trial posed this very equation (a string's one point): its solution is
+        // the solve's, kept as solveContacts() keeps one.
+        r_[0] = trial_.r;
+        slope_[0] = trial_.slope;
+        if (method_ == ContactMethod::energyConserving)
+            system_.recordScalar(0, trial_);
+        lastIterations_ += trial_.iterations;
+    }
+    else
+        lastIterations_ += solveContacts();
     double force = 0.0;
     for (int k = 0; k < reach_.liveCount(); ++k)
         if (const int j = rows[k]; slope_[j] != 0.0)
@@ -116,6 +128,12 @@ double ModalSolver::trialOnMovingBridge(double before, double move) const
     const auto solution = method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
                               ? splines_[size_t(j)].solve(s, b, system_.coupling()(j, j))
                               : system_.solveAlone(j, s, b);
+    if (P_ == 1)
+    {
+        trial_ = solution;
+        trialBefore_ = before;
+        trialMove_ = move;
+    }
     return contacts_[j].weight * solution.slope;
 }
 

@@ -36,6 +36,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <limits>
 #include <vector>
 
 namespace jawari
@@ -305,6 +306,11 @@ private:
     ContactReach reach_;         // the points the step takes
     // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
     std::vector<int> pressing_;
+    // A one-point string's last trial of the step (trialOnMovingBridge) and where it was posed: a
+    // solve at the same place takes it (NaN: none yet).
+    mutable ScalarContactSolution trial_;
+    mutable double trialBefore_ = std::numeric_limits<double>::quiet_NaN();
+    mutable double trialMove_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace jawari
