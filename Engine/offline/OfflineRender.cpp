@@ -45,15 +45,6 @@ struct SolverSetup
 
 }  // namespace
 
-std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body)
-{
-    std::vector<char> on(obstacleCount, body ? 0 : 1);
-    if (body)
-        for (const int i : body->obstacles)
-            on[size_t(i)] = 1;
-    return on;
-}
-
 namespace
 {
 // Which of the configuration's contact points stand on the body (every obstacle's without a body):

@@ -192,17 +192,17 @@ VoicesOnBody voicesOnBody(const Scene& scene)
     v.voices.push_back(std::make_unique<Voice>(played));
     v.voices[0]->setInitialShape(scene.excitation.position, scene.excitation.amplitude);
     v.plucked.push_back(1);
-    bool othersLinear = true;
     for (const auto& other : sceneBody.strings)
     {
         v.voices.push_back(std::make_unique<Voice>(otherStringConfig(scene, other, played)));
         v.plucked.push_back(other.excitation.amplitude != 0.0);
         if (v.plucked.back())
             v.voices.back()->setInitialShape(other.excitation.position, other.excitation.amplitude);
-        for (const auto& o : other.obstacles)
-            othersLinear = othersLinear && o.law.bilateral;
     }
     v.body = std::make_unique<SharedBody>(sceneBody.body, sceneBody.coupling, v.voices[0]->solver().timeStep());
+    const bool othersLinear = std::all_of(v.voices.begin() + 1, v.voices.end(), [](const auto& voice) {
+        return SharedBody::standsOnSprings(voice->solver());
+    });
     v.split = othersLinear ? 1 : static_cast<int>(v.voices.size());
     for (size_t i = 0; i < v.voices.size(); ++i)
     {

@@ -6,14 +6,9 @@
 #include "offline/OfflineRender.h"
 #include "realtime/Voice.h"
 
-#include <optional>
-#include <vector>
-
 namespace jawari
 {
 
-// One flag per obstacle: whether it stands on the body (every obstacle without a body).
-std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body);
 // What every render reports about its solver before it runs (OfflineRender.cpp).
 void describeSolver(ModalSolver& solver, double rateHz, RenderStats& stats);
 

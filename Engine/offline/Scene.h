@@ -96,6 +96,9 @@ struct SceneBody
     std::vector<BodyString> strings;
 };
 
+// One flag per obstacle: whether it stands on the body (every obstacle without a body).
+std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body);
+
 struct Scene
 {
     StringParameters string;

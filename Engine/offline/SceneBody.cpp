@@ -8,6 +8,18 @@
 #include <algorithm>
 #include <stdexcept>
 
+namespace jawari
+{
+std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body)
+{
+    std::vector<char> on(obstacleCount, body ? 0 : 1);
+    if (body)
+        for (const int i : body->obstacles)
+            on[size_t(i)] = 1;
+    return on;
+}
+}  // namespace jawari
+
 namespace jawari::scene_reading
 {
 namespace
@@ -173,9 +185,7 @@ void validateSceneBody(const Scene& scene)
     {
         // The voices stand on the instrument's shared body: every point of theirs on its bridge,
         // solved by the scheme (the SharedBody's rules).
-        std::vector<char> onBody(scene.obstacles.size(), 0);
-        for (const int i : body.obstacles)
-            onBody[size_t(i)] = 1;
+        const auto onBody = obstaclesOnBody(scene.obstacles.size(), scene.body);
         if (std::find(onBody.begin(), onBody.end(), 0) != onBody.end())
             throw SceneError("body.obstacles", "with other strings on the body the \"realtime\" method stands every "
                                                "obstacle on it (list them all, or use \"method\": \"reference\")");

@@ -84,9 +84,8 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
     for (int k = 0; k < reach_.liveCount(); ++k)
     {
         const int j = rows[k];
-        const double predicted = pairedOnBridge_ ? pairU_ : uTilde_[j];
-        s_[j] = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
-        b_[j] = predicted - uCPrev_[j] - compliance_.restoring(j) - move;
+        s_[j] = sOnBridge(j, before);
+        b_[j] = bOnBridge(j, move);
     }
     if (P_ == 1 && before == trialBefore_ && move == trialMove_)
     {
@@ -121,13 +120,7 @@ double ModalSolver::trialOnMovingBridge(double before, double move) const
         if (pressing_.size() > 1 || contacts_[j].law.bilateral)
             return std::numeric_limits<double>::quiet_NaN();
     }
-    // s and b as solveOnMovingBridge() forms them, and the equation as solveContacts() poses it.
-    const double predicted = pairedOnBridge_ ? pairU_ : uTilde_[j];
-    const double s = contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
-    const double b = predicted - uCPrev_[j] - compliance_.restoring(j) - move;
-    const auto solution = method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
-                              ? splines_[size_t(j)].solve(s, b, system_.coupling()(j, j))
-                              : system_.solveAlone(j, s, b);
+    const auto solution = solvePointAlone(j, sOnBridge(j, before), bOnBridge(j, move));
     if (P_ == 1)
     {
         trial_ = solution;
@@ -135,6 +128,26 @@ double ModalSolver::trialOnMovingBridge(double before, double move) const
         trialMove_ = move;
     }
     return contacts_[j].weight * solution.slope;
+}
+
+double ModalSolver::sOnBridge(int j, double before) const
+{
+    return contacts_[j].height + before - uCPrev_[j] - compliance_.deltaPrev(j);
+}
+
+double ModalSolver::bOnBridge(int j, double move) const
+{
+    const double predicted = pairedOnBridge_ ? pairU_ : uTilde_[j];
+    return predicted - uCPrev_[j] - compliance_.restoring(j) - move;
+}
+
+// The spline's potential, or the law's (a bilateral point's, whose equation is linear), through the
+// contact system's coupling at j.
+ScalarContactSolution ModalSolver::solvePointAlone(int j, double s, double b) const
+{
+    return method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
+               ? splines_[size_t(j)].solve(s, b, system_.coupling()(j, j))
+               : system_.solveAlone(j, s, b);
 }
 
 void ModalSolver::finishOnMovingBridge()
@@ -351,9 +364,7 @@ int ModalSolver::solveSplines()
     int most = 0;
     for (int j = 0; j < P_; ++j)
     {
-        const double k = system_.coupling()(j, j);
-        const auto sol = contacts_[j].law.bilateral ? solveScalarContact(contacts_[j].law, s_[j], b_[j], k)
-                                                    : splines_[size_t(j)].solve(s_[j], b_[j], k);
+        const auto sol = solvePointAlone(j, s_[j], b_[j]);
         r_[j] = sol.r;
         slope_[j] = sol.slope;
         most = std::max(most, sol.iterations);

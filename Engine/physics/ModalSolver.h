@@ -249,6 +249,12 @@ private:
     void applyContactForces();
     void endSingleStep();
     int solveContacts();                  // slope_ from s_, b_ by the configured method
+    // Point j's scalar contact equation alone (the spline's, or the energy-conserving one), nothing kept.
+    ScalarContactSolution solvePointAlone(int j, double s, double b) const;
+    // On a moving bridge: point j's s with the obstacle raised by `before` at n-1, and b with it
+    // raised by `move` more at n+1 (solveOnMovingBridge).
+    double sOnBridge(int j, double before) const;
+    double bOnBridge(int j, double move) const;
     int solveSplines();
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest

@@ -49,9 +49,8 @@ void SharedBody::check(const ModalSolver& string) const
 void SharedBody::checkLinear(const ModalSolver& string) const
 {
     check(string);
-    for (int j = 0; j < string.contactCount(); ++j)
-        if (!string.contact(j).law.bilateral)
-            throw std::invalid_argument("a shared body's linear strings touch it through springs (bilateral points) only");
+    if (!standsOnSprings(string))
+        throw std::invalid_argument("a shared body's linear strings touch it through springs (bilateral points) only");
 }
 
 bool SharedBody::atRest() const
@@ -69,31 +68,38 @@ void SharedBody::silence()
     force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = playedForce_ = 0.0;
 }
 
-// The force at one W of the strings before split, each solved with the bridge there.
-double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
+bool SharedBody::standsOnSprings(const ModalSolver& string)
 {
-    playedForce_ = 0.0;
-    for (int i = 0; i < split_; ++i)
-        playedForce_ += strings[i]->solveOnMovingBridge(before, bridge - before);
-    return playedForce_;
+    for (int j = 0; j < string.contactCount(); ++j)
+        if (!string.contact(j).law.bilateral)
+            return false;
+    return true;
 }
 
-// The linear strings' force with the bridge at W, each solved there (and keeping that solve).
-double SharedBody::solveLinear(ModalSolver* const* strings, double before, double bridge)
+// The force at W of strings [from, to), each solved with the bridge there (and keeping that solve).
+double SharedBody::solveForce(ModalSolver* const* strings, int from, int to, double before, double bridge)
 {
     double force = 0.0;
-    for (int i = split_; i < count_; ++i)
+    for (int i = from; i < to; ++i)
         force += strings[i]->solveOnMovingBridge(before, bridge - before);
     return force;
 }
 
-// The linear strings' trial force at W (exact for a string with one point), NaN if one has none.
-double SharedBody::trialLinear(ModalSolver* const* strings, double before, double bridge) const
+// The same by trials (ModalSolver::trialOnMovingBridge; exact for a string with one point): NaN if
+// one has none.
+double SharedBody::trialForce(ModalSolver* const* strings, int from, int to, double before, double bridge) const
 {
     double force = 0.0;
-    for (int i = split_; i < count_; ++i)
+    for (int i = from; i < to; ++i)
         force += strings[i]->trialOnMovingBridge(before, bridge - before);
     return force;
+}
+
+// The played strings' force at W, solved: playedForce_.
+double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
+{
+    playedForce_ = solveForce(strings, 0, split_, before, bridge);
+    return playedForce_;
 }
 
 // Every point of a linear string is a spring, so its force is affine in W: measured at two
@@ -103,14 +109,14 @@ void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at
 {
     constexpr double kStep = 1e-9;  // m: any step measures an affine force; this one keeps rounding small
     linearAt_ = at;
-    linearForce_ = trialLinear(strings, before, at);
-    if (std::isfinite(linearForce_))
-    {
-        linearSlope_ = (trialLinear(strings, before, at + kStep) - linearForce_) / kStep;
-        return;
-    }
-    linearForce_ = solveLinear(strings, before, at);
-    linearSlope_ = (solveLinear(strings, before, at + kStep) - linearForce_) / kStep;
+    linearForce_ = trialForce(strings, split_, count_, before, at);
+    const bool byTrials = std::isfinite(linearForce_);
+    auto force = [&](double w) {
+        return byTrials ? trialForce(strings, split_, count_, before, w) : solveForce(strings, split_, count_, before, w);
+    };
+    if (!byTrials)
+        linearForce_ = force(at);
+    linearSlope_ = (force(at + kStep) - linearForce_) / kStep;
 }
 
 namespace
@@ -122,7 +128,7 @@ template <typename Residual, typename Tolerance>
 double secant(Residual&& residual, Tolerance&& tolerance, double w0, double r0, double& slope, int& evaluations,
               int most)
 {
-    if (r0 == 0.0 || std::abs(r0) <= tolerance(w0))
+    if (std::abs(r0) <= tolerance(w0))
         return w0;
     double w1 = w0 - r0 / slope;
     while (true)
@@ -141,15 +147,6 @@ double secant(Residual&& residual, Tolerance&& tolerance, double w0, double r0, 
 }
 }  // namespace
 
-// The played strings' trial force at W (ModalSolver::trialOnMovingBridge): NaN if one has none.
-double SharedBody::trialForce(ModalSolver* const* strings, double before, double bridge) const
-{
-    double force = 0.0;
-    for (int i = 0; i < split_; ++i)
-        force += strings[i]->trialOnMovingBridge(before, bridge - before);
-    return force;
-}
-
 // W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the W that solves it with the played
 // strings' force as the last step left it (and the linear strings' affine force), and the last
 // step's slope R'. First on trials (each played string's last lone presser alone, no solve), then
@@ -164,9 +161,11 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
     auto linear = [&](double w) { return split_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
     double w = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
     constexpr int kMostEvaluations = 16;
-    if (const double trial = trialForce(strings, before, w); std::isfinite(trial))
+    if (const double trial = trialForce(strings, 0, split_, before, w); std::isfinite(trial))
     {
-        auto trialResidual = [&](double x) { return x - predicted - beta_ * (trialForce(strings, before, x) + linear(x)); };
+        auto trialResidual = [&](double x) {
+            return x - predicted - beta_ * (trialForce(strings, 0, split_, before, x) + linear(x));
+        };
         trials_ = 1;
         w = secant(trialResidual, tolerance, w, w - predicted - beta_ * (trial + linear(w)), slope_, trials_,
                    kMostEvaluations);
@@ -211,7 +210,7 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     force_ = playedForce_;
     if (split < count)
     {
-        partForce_ = solveLinear(strings, before, bridge);
+        partForce_ = solveForce(strings, split, count, before, bridge);
         force_ += partForce_;
     }
     for (int i = 0; i < count; ++i)

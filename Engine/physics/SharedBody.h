@@ -36,6 +36,8 @@ public:
     void check(const ModalSolver& string) const;
     // OFF: check(), and every contact point a spring (bilateral): a string that may come after split.
     void checkLinear(const ModalSolver& string) const;
+    // Whether every contact point of the string is a spring (bilateral).
+    static bool standsOnSprings(const ModalSolver& string);
 
     // RT: one step of `count` strings and of the body. An explicit force on a string is part of its
     // prediction. The strings from `split` on (the sympathetic strings) are linear: every contact
@@ -62,10 +64,9 @@ public:
     void silence();                                    // RT: every mode at rest
 
 private:
+    double solveForce(ModalSolver* const* strings, int from, int to, double before, double bridge);
+    double trialForce(ModalSolver* const* strings, int from, int to, double before, double bridge) const;
     double evaluate(ModalSolver* const* strings, double before, double bridge);
-    double trialForce(ModalSolver* const* strings, double before, double bridge) const;
-    double trialLinear(ModalSolver* const* strings, double before, double bridge) const;
-    double solveLinear(ModalSolver* const* strings, double before, double bridge);
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
     void stepPart(double partForce);
