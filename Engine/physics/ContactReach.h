@@ -39,11 +39,15 @@ public:
     // RT, once per step: whether H is to be measured now (stale, or kCheckSteps steps since).
     bool checkDue() { return stale_ || --stepsToCheck_ <= 0; }
 
+    // RT: whether H may have risen since it was last measured (markStale()).
+    bool stale() const { return stale_; }
+
     // RT: the points within sqrt(H) reach_j of their obstacle (5 % spare for the Newton's tolerance),
-    // for a string of energy H, become the live ones; join(j) is called for each that was not live
-    // (the caller gives it its u^n and u^{n-1}), leave(j) for each left out.
+    // for a string of energy at most H, become the live ones; join(j) is called for each that was not
+    // live (the caller gives it its u^n and u^{n-1}), leave(j) for each left out. An obstacle that
+    // may rise by up to `rise` (m: a bridge on a body, SharedBody) is that much nearer.
     template <typename Join, typename Leave>
-    void refresh(double H, const std::vector<ContactPoint>& contacts, Join&& join, Leave&& leave)
+    void refresh(double H, const std::vector<ContactPoint>& contacts, Join&& join, Leave&& leave, double rise = 0.0)
     {
         stale_ = false;
         stepsToCheck_ = kCheckSteps;
@@ -52,7 +56,7 @@ public:
         for (int j = 0; j < static_cast<int>(contacts.size()); ++j)
         {
             const bool reachable = contacts[size_t(j)].law.bilateral  // never left
-                                   || !(contacts[size_t(j)].height + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
+                                   || !(contacts[size_t(j)].height + rise + radius * reach_[size_t(j)] <= 0.0);  // NaN: reachable
             if (reachable)
             {
                 if (!live_[size_t(j)])

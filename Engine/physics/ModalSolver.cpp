@@ -189,9 +189,52 @@ double ModalSolver::obstacleEnergy() const
     return contactPotentialEnergy(uC_.data(), uCPrev_.data(), true);
 }
 
+double ModalSolver::energyOnBridge(double now, double before) const
+{
+    return stringEnergy() + contactPotentialEnergy(uC_.data(), uCPrev_.data(), true, now, before)
+           + compliance_.energy();
+}
+
+void ModalSolver::refreshReachOnBridge(double H, double rise)
+{
+    reach_.refresh(
+        H, contacts_, [this](int j) { projectPoint(j); }, [this](int j) { slope_[size_t(j)] = 0.0; }, rise);
+    // A point left out presses no more: the next trial (trialOnMovingBridge) poses none of them.
+    std::erase_if(pressing_, [this](int j) { return !reach_.live(j); });
+}
+
+void ModalSolver::wakeAllMidStep()
+{
+    if (!pairedOnBridge_)
+        reach_.wakeAll([this](int j) { projectPointMidStep(j); });
+}
+
+// Point j joins after the prediction was written over q^{n-1} (the single layout, no explicit force:
+// a pushed string has every point live): u^n from q^n, u~ from q~, and u^{n-1} from
+// q^{n-1} = (a q^n - q~) / e, mode by mode (e > 0), exact to rounding.
+void ModalSolver::projectPointMidStep(int j)
+{
+    const double* q = state_.q();
+    const double* predicted = state_.qPrev();
+    const double* a = state_.a();
+    const double* e = state_.e();
+    const double* phi = state_.phi(j);
+    double u = 0.0, uPrev = 0.0, uNext = 0.0;
+    for (int p = 0; p < state_.activeCount(); ++p)
+    {
+        u += phi[p] * q[p];
+        uNext += phi[p] * predicted[p];
+        uPrev += phi[p] * ((a[p] * q[p] - predicted[p]) / e[p]);
+    }
+    uC_[size_t(j)] = u;
+    uCPrev_[size_t(j)] = uPrev;
+    uTilde_[size_t(j)] = uNext;
+}
+
 // sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2 for the points' displacements u at n and n-1 (with
 // `liveOnly`, over the live points: the others are off their obstacle, and their u is not kept).
-double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly) const
+double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly, double raise,
+                                           double raiseBefore) const
 {
     auto psi = [&](int j, double penetration) {
         return method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
@@ -202,8 +245,8 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
     for (int j = 0; j < P_; ++j)
         if (!liveOnly || reach_.live(j))
             sum += contacts_[j].weight * 0.5
-               * (psi(j, contacts_[j].height - u[j] - compliance_.delta(j))
-                  + psi(j, contacts_[j].height - uPrev[j] - compliance_.deltaPrev(j)));
+               * (psi(j, contacts_[j].height + raise - u[j] - compliance_.delta(j))
+                  + psi(j, contacts_[j].height + raiseBefore - uPrev[j] - compliance_.deltaPrev(j)));
     return sum;
 }
 

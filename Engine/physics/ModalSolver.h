@@ -122,8 +122,9 @@ public:
     // the caller needs, solves the contact with every obstacle raised by the bridge's displacement,
     // `before` at n-1 and `before + move` at n+1, and returns sum_j w_j G_j (the points' forces on the
     // bridge, N, pushing it down when > 0); finishOnMovingBridge() completes the step with the last
-    // solve. The energy-conserving method or the quadratic spline, every point kept live
-    // (leaveOutOfReach off).
+    // solve. The energy-conserving method or the quadratic spline. The points out of reach are the
+    // caller's to choose (refreshReachOnBridge(), wakeAllPoints()): the string's own energy no longer
+    // bounds its motion, the joined one does.
     void predictOnMovingBridge();
     double solveOnMovingBridge(double before, double move);
     void finishOnMovingBridge();
@@ -133,6 +134,22 @@ public:
     // point pressed; NaN if two did, or a bilateral one (then only a solve tells). A string with one
     // point: its scalar equation, which is its solve, whatever it did before.
     double trialOnMovingBridge(double before, double move) const;
+    // RT, on a moving bridge, before predictOnMovingBridge(): the live points for a string whose
+    // energy stays at most H while its bridge rises by at most `rise` (m; ContactReach::refresh), or
+    // every point live. wakeAllMidStep(): every point live from now, between
+    // predictOnMovingBridge() and finishOnMovingBridge(), so that the step's next solve takes them
+    // (SharedBody, when a step ran beyond what the live points were chosen for). Without the reach
+    // (leavesOutOfReach()) every point stays live.
+    void refreshReachOnBridge(double H, double rise);
+    void wakeAllPoints() { wakeAll(); }
+    void wakeAllMidStep();
+    // RT: whether H may have risen since the reach was last refreshed (a retune, a release, a new
+    // state, a force that ended), and whether a force pushes the string now.
+    bool reachStale() const { return reach_.stale(); }
+    bool pushed() const { return externalForce_ != 0.0; }
+    // RT: H^{n-1/2} with every obstacle raised by the bridge's `now` at n and `before` at n-1: the
+    // string's, its obstacles' and the residual compliance's. No allocation.
+    double energyOnBridge(double now, double before) const;
 
     // RT: a point force (N) at the excitation position, applied explicitly from the next step on
     // (part of the prediction: q~ += (dt^2/mu) F phi_e) until set back to 0.
@@ -260,11 +277,14 @@ private:
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
-    double contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly) const;
+    // sum_j w_j (psi_j at n + psi_j at n-1) / 2, the obstacles raised by `raise` at n and `raiseBefore` at n-1.
+    double contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly, double raise = 0.0,
+                                  double raiseBefore = 0.0) const;
     void measureReach();   // RT: ContactReach::measure() with the solver's tables
     void refreshReach();   // RT: H measured, the live points chosen afresh
     void wakeAll();        // RT: every point live
     void projectPoint(int j);  // RT: point j's u^n and u^{n-1} from the state
+    void projectPointMidStep(int j);  // RT: the same and u~, after the prediction
     PickupReadout::Forces pickupForces() const { return {shapes_, excitationShape_, contacts_, forceScale_, coeffs_}; }
     // The stepping arrays' weights of pickup k over the active modes (null: no such pickup).
     const double* activePickupWeights(int k) const { return k == 0 ? state_.h() : state_.h2(); }

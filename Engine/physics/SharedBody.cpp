@@ -26,6 +26,8 @@ SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
         push_.push_back(dt_ * dt_ * coupling / mode.massKg);
         kappa_.push_back(coupling);
         weights_.push_back(mode.radiation);
+        kinetic_.push_back(0.5 * mode.massKg * c.kineticWeight / (dt_ * dt_));
+        potential_.push_back(0.5 * mode.massKg * c.potentialWeight);
         radiationPush_ += mode.radiation * push_.back();
         inverseMass += 1.0 / mode.massKg;
     }
@@ -39,11 +41,10 @@ void SharedBody::check(const ModalSolver& string) const
     if (string.timeStep() != dt_)
         throw std::invalid_argument("a shared body's strings step at its time step");
     const auto method = string.contactMethod();
-    if (string.contactCount() > 0
-        && ((method != ContactMethod::energyConserving && method != ContactMethod::quadraticSpline)
-            || string.leavesOutOfReach()))
+    if (string.contactCount() > 0 && method != ContactMethod::energyConserving
+        && method != ContactMethod::quadraticSpline)
         throw std::invalid_argument("a shared body's strings solve their contacts by the energy-conserving method "
-                                    "or the quadratic spline, every point kept live");
+                                    "or the quadratic spline");
 }
 
 void SharedBody::checkLinear(const ModalSolver& string) const
@@ -66,6 +67,26 @@ void SharedBody::silence()
     for (auto* z : {&z_, &zPrevious_, &zPart_, &zPartPrevious_})
         std::fill(z->begin(), z->end(), 0.0);
     force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = playedForce_ = 0.0;
+    reach_.chooseAgain();  // the bridge's jump to rest may bring the strings' obstacles nearer
+}
+
+double SharedBody::bodyEnergy() const
+{
+    double sum = 0.0;
+    for (size_t k = 0; k < z_.size(); ++k)
+    {
+        const double d = z_[k] - zPrevious_[k];
+        sum += kinetic_[k] * d * d + potential_[k] * z_[k] * zPrevious_[k];
+    }
+    return sum;
+}
+
+double SharedBody::energy(const ModalSolver* const* strings, int count) const
+{
+    double sum = bodyEnergy();
+    for (int i = 0; i < count; ++i)
+        sum += strings[i]->energyOnBridge(bridge_, bridgeBefore_);
+    return sum;
 }
 
 bool SharedBody::standsOnSprings(const ModalSolver& string)
@@ -81,7 +102,12 @@ double SharedBody::solveForce(ModalSolver* const* strings, int from, int to, dou
 {
     double force = 0.0;
     for (int i = from; i < to; ++i)
-        force += strings[i]->solveOnMovingBridge(before, bridge - before);
+    {
+        const double f = strings[i]->solveOnMovingBridge(before, bridge - before);
+        if (i < BodyReach::kMostStrings)
+            forces_[size_t(i)] = f;
+        force += f;
+    }
     return force;
 }
 
@@ -166,13 +192,16 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
         auto trialResidual = [&](double x) {
             return x - predicted - beta_ * (trialForce(strings, 0, split_, before, x) + linear(x));
         };
-        trials_ = 1;
-        w = secant(trialResidual, tolerance, w, w - predicted - beta_ * (trial + linear(w)), slope_, trials_,
+        int trials = 1;
+        w = secant(trialResidual, tolerance, w, w - predicted - beta_ * (trial + linear(w)), slope_, trials,
                    kMostEvaluations);
+        trials_ += trials;
     }
     auto residual = [&](double x) { return x - predicted - beta_ * (evaluate(strings, before, x) + linear(x)); };
-    evaluations_ = 1;
-    return secant(residual, tolerance, w, residual(w), slope_, evaluations_, kMostEvaluations);
+    int evaluations = 1;
+    w = secant(residual, tolerance, w, residual(w), slope_, evaluations, kMostEvaluations);
+    evaluations_ += evaluations;
+    return w;
 }
 
 // The copy of the modes that the strings after split drive: the same update, their force alone.
@@ -194,6 +223,7 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     const int K = static_cast<int>(z_.size());
     const double predicted = kernels::predict(a_.data(), e_.data(), z_.data(), zPrevious_.data(), kappa_.data(),
                                               weights_.data(), K, K, radiated);
+    reach_.choose(strings, count, oneWay_, bridge_, bridgeBefore_);
     for (int i = 0; i < count; ++i)
         strings[i]->predictOnMovingBridge();
     evaluations_ = trials_ = 0;
@@ -201,7 +231,16 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     count_ = count;
     // One way, the strings' bridge stands still: their solve once, with it at rest.
     const double before = oneWay_ ? 0.0 : bridgeBefore_;
-    const double bridge = oneWay_ ? 0.0 : solveBridge(strings, before, predicted);
+    double bridge = oneWay_ ? 0.0 : solveBridge(strings, before, predicted);
+    resolved_ = !oneWay_ && !reach_.withinBudgets(forces_.data(), std::min(split, BodyReach::kMostStrings), before, bridge);
+    if (resolved_)
+    {
+        // Beyond what the live points were chosen for: the step again with every point.
+        for (int i = 0; i < split; ++i)
+            strings[i]->wakeAllMidStep();
+        reach_.chooseAgain();
+        bridge = solveBridge(strings, before, predicted);
+    }
     if (oneWay_)
     {
         evaluate(strings, 0.0, 0.0);

@@ -15,11 +15,16 @@
 // so its energy balance. beta is small beside a string's own compliance at its points (a tanpura's
 // body: a few per cent of it), so the secant converges in a few evaluations; with nothing pressing,
 // F = 0 and one suffices.
+//
+// The points out of reach are left out of every string's solve as a string alone leaves them, from
+// budgets that each step's energy balance keeps (BodyReach).
 
+#include "physics/BodyReach.h"
 #include "physics/ExactOscillator.h"
 #include "physics/ModalBody.h"
 #include "physics/ModalSolver.h"
 
+#include <array>
 #include <vector>
 
 namespace jawari
@@ -29,8 +34,7 @@ class SharedBody
 {
 public:
     // OFF: the body at rest, coupled by `coupling` (0: nothing reaches it), at its strings' common time
-    // step; they solve their contacts by the energy-conserving method or the quadratic spline, every
-    // point kept live (check()).
+    // step; they solve their contacts by the energy-conserving method or the quadratic spline (check()).
     SharedBody(const ModalBody& body, double coupling, double timeStep);
     // OFF: checks that a string can stand on the body (throws std::invalid_argument naming why not).
     void check(const ModalSolver& string) const;
@@ -51,7 +55,11 @@ public:
     // OFF or RT: one way (a comparison, not the instrument's physics): the strings stand on rigid
     // supports and their forces there drive the body, which moves nothing back (one contact solve a
     // step; the sympathetic strings then stay at rest). Off by default: two way.
-    void setOneWay(bool oneWay) { oneWay_ = oneWay; }
+    void setOneWay(bool oneWay)
+    {
+        oneWay_ = oneWay;
+        reach_.chooseAgain();
+    }
     bool oneWay() const { return oneWay_; }
 
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
@@ -61,6 +69,12 @@ public:
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
     int lastTrials() const { return trials_; }            // RT: its trials (ModalSolver::trialOnMovingBridge)
     bool atRest() const;                               // RT: every mode below 1e-18 m
+    // RT: the body's modes' part of the joined H^{n-1/2} (J); with the strings' energyOnBridge() at
+    // bridgeDisplacement() and the one before, the whole. No allocation.
+    double bodyEnergy() const;
+    double energy(const ModalSolver* const* strings, int count) const;
+    // RT: whether the last step was solved again with every point live (BodyReach).
+    bool lastResolved() const { return resolved_; }
     void silence();                                    // RT: every mode at rest
 
 private:
@@ -75,6 +89,10 @@ private:
     // c_k; z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
     std::vector<double> a_, e_, push_, kappa_, weights_;
     std::vector<double> z_, zPrevious_;
+    std::vector<double> kinetic_, potential_;  // per mode, m_k C1 / (2 dt^2) and m_k C2 / 2: its energy's weights
+    BodyReach reach_;
+    std::array<double, BodyReach::kMostStrings> forces_{};  // each string's force at the last solve (N)
+    bool resolved_ = false;
     std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
     double dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0, radiation_ = 0.0;  // w^n, w^{n-1}, sum c_k z_k^n

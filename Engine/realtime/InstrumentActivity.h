@@ -21,6 +21,7 @@ struct InstrumentActivity
     long bodySteps = 0;         // internal steps of the strings on the body (SharedBody::step)
     long bodySolves = 0;        // their contact solves of every played string, summed over the steps
     long bodyTrials = 0;        // their trials (SharedBody::lastTrials), likewise
+    long bodyResolves = 0;      // steps solved again with every point live (SharedBody::lastResolved)
 };
 
 }  // namespace jawari

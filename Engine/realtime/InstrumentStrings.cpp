@@ -75,6 +75,7 @@ double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** so
     ++activity_.bodySteps;
     activity_.bodySolves += body.lastEvaluations();
     activity_.bodyTrials += body.lastTrials();
+    activity_.bodyResolves += body.lastResolved();
     for (int i = 0; i < s.count; ++i)
         s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
     for (int j = 0; j < taraf; ++j)

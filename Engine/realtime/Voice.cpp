@@ -130,7 +130,6 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     if (config.secondPickupPosition && config.quantity != PickupQuantity::force)
         c.secondPickupWeights = pickupWeights(s, c.modes, *config.secondPickupPosition, config.quantity);
     c.method = voiceContactMethod(config);
-    c.leaveOutOfReach = !config.movingBridge;
     c.pickupBandHz = config.staticPickupAboveNyquist && config.oversampling > 1 ? 0.5 * config.hostRateHz : 0.0;
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;

@@ -74,7 +74,7 @@ struct VoiceConfig
     std::vector<char> obstacleOnBody;
     double bodyCoupling = 1.0;
     // Its obstacles stand on a body stepped beside it (SharedBody, the instrument's): the contacts
-    // take the energy-conserving method or the quadratic spline, every point kept live.
+    // take the energy-conserving method or the quadratic spline, and the body chooses their live points.
     bool movingBridge = false;
 };
 

@@ -142,7 +142,7 @@ int main(int argc, char* argv[])
     jawari::BlockLoad cpuLoad, wallLoad;
     long iterations = 0;
     long workerStrings = 0, workerRevoked = 0, workerUnstarted = 0;  // all blocks': a slow block's own count against the mean says whether it had more work
-    long bodySteps = 0, bodySolves = 0, bodyTrials = 0;  // all blocks': the body's secant
+    long bodySteps = 0, bodySolves = 0, bodyTrials = 0, bodyResolves = 0;  // all blocks': the body's secant
     const long replayBlocks = replay > 0.0 ? std::max(1L, std::lround(replay * rate / block)) : 0;
     long nonFinite = 0, beyond = 0;
     for (long b = 0; b < blocks; ++b)
@@ -173,6 +173,7 @@ int main(int argc, char* argv[])
         bodySteps += p.instrument().activity().bodySteps;
         bodySolves += p.instrument().activity().bodySolves;
         bodyTrials += p.instrument().activity().bodyTrials;
+        bodyResolves += p.instrument().activity().bodyResolves;
         wallLoad.add(b, seconds / budget, p.instrument().activity());
         worst = std::max(worst, seconds);
         total += seconds;
@@ -202,8 +203,10 @@ int main(int argc, char* argv[])
                 pack->modes, pack->voices[0]->oversampling(), pack->voices[0]->contactPoints(), rate, block,
                 polyphony, secondCore != 0 ? ", a second core" : "", polarisations == 2 ? ", two polarisations" : "");
     if (bodySteps > 0)
-        std::printf("  on the body: %ld internal steps, %.3f contact solves and %.3f trials a step (SharedBody)\n",
-                    bodySteps, double(bodySolves) / double(bodySteps), double(bodyTrials) / double(bodySteps));
+        std::printf("  on the body: %ld internal steps, %.3f contact solves and %.3f trials a step (SharedBody); %ld "
+                    "solved again with every point (BodyReach)\n",
+                    bodySteps, double(bodySolves) / double(bodySteps), double(bodyTrials) / double(bodySteps),
+                    bodyResolves);
     if (secondCore != 0)
         std::printf("  the second core stepped %ld string chunks; %ld taken back late, %ld not started\n",
                     workerStrings, workerRevoked, workerUnstarted);

@@ -1,0 +1,95 @@
+#include "physics/BodyReach.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace jawari
+{
+
+namespace
+{
+constexpr double kHeadroom = 2.0;  // a budget is this many times the energy at the check; the rise, the displacement
+// A string at rest still gets this share of the largest string's energy as its budget, and the
+// bridge this share of the largest rise a string's points allow: the body wakes it slowly.
+constexpr double kLeastShare = 1e-6;
+}  // namespace
+
+// Whether the strings are those the live points were last chosen for (and they are now).
+bool BodyReach::sameStrings(ModalSolver* const* strings, int count)
+{
+    bool same = count == chosenCount_;
+    for (int i = 0; i < count && same; ++i)
+        same = chosenFor_[size_t(i)] == strings[i];
+    if (!same)
+    {
+        std::copy(strings, strings + count, chosenFor_.begin());
+        chosenCount_ = count;
+    }
+    return same;
+}
+
+void BodyReach::wakeAll(ModalSolver* const* strings, int count)
+{
+    for (int i = 0; i < count; ++i)
+        strings[i]->wakeAllPoints();
+    budgeted_ = false;
+    chosenCount_ = -1;  // chosen again once nothing pushes
+}
+
+void BodyReach::choose(ModalSolver* const* strings, int count, bool oneWay, double bridge, double before)
+{
+    largestBridge_ = std::max({largestBridge_, std::abs(bridge), std::abs(before)});
+    bool pushed = count > kMostStrings;
+    for (int i = 0; i < count && !pushed; ++i)
+        pushed = strings[i]->pushed();
+    if (pushed)
+        return wakeAll(strings, count);
+    bool due = !sameStrings(strings, count) || --stepsToCheck_ <= 0;
+    for (int i = 0; i < count && !due; ++i)
+        due = strings[i]->reachStale();
+    if (!due)
+        return;
+    stepsToCheck_ = ContactReach::kCheckSteps;
+    budgeted_ = false;
+    if (oneWay)
+    {
+        for (int i = 0; i < count; ++i)
+            strings[i]->refreshReachOnBridge(strings[i]->energyOnBridge(0.0, 0.0), 0.0);
+        return;
+    }
+    double largest = 0.0;
+    for (int i = 0; i < count; ++i)
+    {
+        spent_[size_t(i)] = strings[i]->energyOnBridge(bridge, before);
+        largest = std::max(largest, spent_[size_t(i)]);
+    }
+    rise_ = kHeadroom * largestBridge_;
+    largestBridge_ = 0.0;
+    for (int i = 0; i < count; ++i)
+    {
+        budget_[size_t(i)] = kHeadroom * spent_[size_t(i)] + kLeastShare * largest;
+        strings[i]->refreshReachOnBridge(budget_[size_t(i)], rise_);
+        if (strings[i]->livePointCount() == strings[i]->contactCount())
+            budget_[size_t(i)] = std::numeric_limits<double>::infinity();  // every point live: nothing to keep
+        else
+            budgeted_ = true;
+    }
+}
+
+// With every point of every string live, nothing can be out of reach.
+bool BodyReach::withinBudgets(const double* forces, int count, double before, double bridge)
+{
+    if (!budgeted_)
+        return true;
+    if (std::abs(bridge) > rise_)
+        return false;
+    for (int i = 0; i < count; ++i)
+        if (spent_[size_t(i)] + 0.5 * forces[i] * (bridge - before) > budget_[size_t(i)])
+            return false;
+    for (int i = 0; i < count; ++i)
+        spent_[size_t(i)] += 0.5 * forces[i] * (bridge - before);
+    return true;
+}
+
+}  // namespace jawari
