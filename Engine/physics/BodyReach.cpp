@@ -84,11 +84,12 @@ bool BodyReach::withinBudgets(const double* forces, int count, double before, do
         return true;
     if (std::abs(bridge) > rise_)
         return false;
+    const double halfMove = 0.5 * (bridge - before);
     for (int i = 0; i < count; ++i)
-        if (spent_[size_t(i)] + 0.5 * forces[i] * (bridge - before) > budget_[size_t(i)])
+        if (spent_[size_t(i)] - forces[i] * halfMove > budget_[size_t(i)])
             return false;
     for (int i = 0; i < count; ++i)
-        spent_[size_t(i)] += 0.5 * forces[i] * (bridge - before);
+        spent_[size_t(i)] -= forces[i] * halfMove;
     return true;
 }
 

@@ -6,9 +6,10 @@
 // A string alone never gains energy, so its energy H at a check bounds its motion until the next.
 // On a body it gains what the bridge's motion does on it: by the discrete energy balance, string
 // i's energy (its modes, its obstacles' potential, its residual compliance) changes in a step by
-//   F_i (W - w^{n-1}) / 2  minus its losses,
-// with F_i its points' force on the bridge and W, w^{n-1} the bridge's displacement at n+1 and
-// n-1. So at each check every string gets a budget, twice its energy then, and the bridge a
+//   -F_i (W - w^{n-1}) / 2  minus its losses,
+// with F_i = sum_j w_j G_j its points' force on the bridge (< 0 while it presses the bridge down)
+// and W, w^{n-1} the bridge's displacement at n+1 and n-1: a bridge that rises under a string
+// pressing on it gives it energy. So at each check every string gets a budget, twice its energy then, and the bridge a
 // rise, twice the largest displacement it had since the last check; each string's points are
 // chosen for them (ContactReach::refresh). After each step's solve, the work is added to what each
 // string has spent: a string still within its budget with the bridge within its rise cannot have

@@ -121,7 +121,7 @@ public:
     // predicts the step (one pass over the modes); solveOnMovingBridge(before, move), as many times as
     // the caller needs, solves the contact with every obstacle raised by the bridge's displacement,
     // `before` at n-1 and `before + move` at n+1, and returns sum_j w_j G_j (the points' forces on the
-    // bridge, N, pushing it down when > 0); finishOnMovingBridge() completes the step with the last
+    // bridge, N, < 0 while they press it down); finishOnMovingBridge() completes the step with the last
     // solve. The energy-conserving method or the quadratic spline. The points out of reach are the
     // caller's to choose (refreshReachOnBridge(), wakeAllPoints()): the string's own energy no longer
     // bounds its motion, the joined one does.

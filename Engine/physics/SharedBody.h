@@ -63,7 +63,7 @@ public:
     bool oneWay() const { return oneWay_; }
 
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
-    double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, pushing the body down)
+    double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, < 0 pushing the body down)
     double radiation() const { return radiation_; }  // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
     double partRadiation() const { return partRadiation_; }  // RT: the same from the forces of the strings after split
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
