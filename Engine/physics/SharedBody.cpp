@@ -164,7 +164,7 @@ double secant(Residual&& residual, Tolerance&& tolerance, double w0, double r0, 
         if (std::abs(r1) <= tolerance(w1) || r1 == r0 || evaluations >= most)
             return w1;
         const double s = (r1 - r0) / (w1 - w0);
-        if (std::isfinite(s) && s > 0.5)  // R' = 1 + beta F' >= 1 where F is monotone
+        if (std::isfinite(s) && s > 0.5)  // R' = 1 - beta F' >= 1: F falls as the bridge rises into the strings
             slope = s;
         w0 = w1;
         r0 = r1;
