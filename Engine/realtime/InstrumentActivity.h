@@ -22,6 +22,8 @@ struct InstrumentActivity
     long bodySolves = 0;        // their contact solves of every played string, summed over the steps
     long bodyTrials = 0;        // their trials (SharedBody::lastTrials), likewise
     long bodyResolves = 0;      // steps solved again with every point live (SharedBody::lastResolved)
+    long bodyLivePoints = 0;    // the played strings' live contact points, summed over the steps (BodyReach)
+    long bodyContactPoints = 0; // their contact points, likewise
 };
 
 }  // namespace jawari

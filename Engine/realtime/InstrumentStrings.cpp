@@ -77,7 +77,11 @@ double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** so
     activity_.bodyTrials += body.lastTrials();
     activity_.bodyResolves += body.lastResolved();
     for (int i = 0; i < s.count; ++i)
+    {
+        activity_.bodyLivePoints += solvers[i]->livePointCount();
+        activity_.bodyContactPoints += solvers[i]->contactCount();
         s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
+    }
     for (int j = 0; j < taraf; ++j)
         sympathetic_.voice(j).finishOnBody();  // unheard: the body carries them (the guard still runs)
     double p = pack_->bodyStream.advance(body.radiation(), PickupQuantity::pressure, dt);

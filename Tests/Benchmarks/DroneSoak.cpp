@@ -142,7 +142,7 @@ int main(int argc, char* argv[])
     jawari::BlockLoad cpuLoad, wallLoad;
     long iterations = 0;
     long workerStrings = 0, workerRevoked = 0, workerUnstarted = 0;  // all blocks': a slow block's own count against the mean says whether it had more work
-    long bodySteps = 0, bodySolves = 0, bodyTrials = 0, bodyResolves = 0;  // all blocks': the body's secant
+    long bodySteps = 0, bodySolves = 0, bodyTrials = 0, bodyResolves = 0, bodyLive = 0, bodyPoints = 0;  // all blocks': the body's secant
     const long replayBlocks = replay > 0.0 ? std::max(1L, std::lround(replay * rate / block)) : 0;
     long nonFinite = 0, beyond = 0;
     for (long b = 0; b < blocks; ++b)
@@ -174,6 +174,8 @@ int main(int argc, char* argv[])
         bodySolves += p.instrument().activity().bodySolves;
         bodyTrials += p.instrument().activity().bodyTrials;
         bodyResolves += p.instrument().activity().bodyResolves;
+        bodyLive += p.instrument().activity().bodyLivePoints;
+        bodyPoints += p.instrument().activity().bodyContactPoints;
         wallLoad.add(b, seconds / budget, p.instrument().activity());
         worst = std::max(worst, seconds);
         total += seconds;
@@ -204,9 +206,9 @@ int main(int argc, char* argv[])
                 polyphony, secondCore != 0 ? ", a second core" : "", polarisations == 2 ? ", two polarisations" : "");
     if (bodySteps > 0)
         std::printf("  on the body: %ld internal steps, %.3f contact solves and %.3f trials a step (SharedBody); %ld "
-                    "solved again with every point (BodyReach)\n",
+                    "solved again with every point, %.1f %% of the played strings' points live (BodyReach)\n",
                     bodySteps, double(bodySolves) / double(bodySteps), double(bodyTrials) / double(bodySteps),
-                    bodyResolves);
+                    bodyResolves, bodyPoints > 0 ? 100.0 * double(bodyLive) / double(bodyPoints) : 100.0);
     if (secondCore != 0)
         std::printf("  the second core stepped %ld string chunks; %ld taken back late, %ld not started\n",
                     workerStrings, workerRevoked, workerUnstarted);
