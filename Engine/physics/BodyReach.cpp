@@ -39,7 +39,7 @@ void BodyReach::wakeAll(ModalSolver* const* strings, int count)
 
 void BodyReach::choose(ModalSolver* const* strings, int count, bool oneWay, double bridge, double before)
 {
-    largestBridge_ = std::max({largestBridge_, std::abs(bridge), std::abs(before)});
+    largestBridge_ = std::max({largestBridge_, bridge, before});  // the highest: only a rise brings an obstacle nearer
     bool pushed = count > kMostStrings;
     for (int i = 0; i < count && !pushed; ++i)
         pushed = strings[i]->pushed();
@@ -82,7 +82,7 @@ bool BodyReach::withinBudgets(const double* forces, int count, double before, do
 {
     if (!budgeted_)
         return true;
-    if (std::abs(bridge) > rise_)
+    if (bridge > rise_)
         return false;
     const double halfMove = 0.5 * (bridge - before);
     for (int i = 0; i < count; ++i)
