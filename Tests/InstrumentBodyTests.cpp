@@ -132,9 +132,7 @@ TEST_CASE("Through the body a note feels another: on rigid supports it does not,
         InstrumentControls controls;
         controls.bodyMix = 0.0;
         controls.stereoWidth = 1.0;
-        instrument.setControls(controls);
-        instrument.install(pack.get(), nullptr);
-        instrument.settleControls();
+        test::start(instrument, *pack, controls);
         instrument.noteOn(48, 0.8);
         if (withC7)
             instrument.noteOn(96, 0.8);
@@ -166,25 +164,13 @@ TEST_CASE("Through the body the Sitar's strings leave out the bridge points they
     // The Sitar preset's string and parabolic bridge (23 points) on the tanpura body, C3 and G3
     // held for 2 s: the share of their points live over the internal steps (BodyReach). Every
     // point live would be 1.
-    auto liveShare = [](BodyChoice body) {
-        InstrumentStructure structure;
-        structure.stringType = 1;
-        structure.shape = ObstacleShape::parabola;
-        structure.obstaclePosition = 0.012;
-        structure.obstacleWidth = 0.02;
-        structure.curvature = 8.0;
-        structure.inharmonicity = 1e-5;
-        structure.pluckPosition = 0.2;
-        structure.pickupPosition = 0.95;
-        structure.body = body;
-        auto pack = buildVoicePack(structure);
+    auto liveShare = [] {
+        auto pack = buildVoicePack(test::sitarStructure(0));
         Instrument instrument;
         InstrumentControls controls;
         controls.stiffness = 1e12;
         controls.exponent = 1.5;
-        instrument.setControls(controls);
-        instrument.install(pack.get(), nullptr);
-        instrument.settleControls();
+        test::start(instrument, *pack, controls);
         instrument.clearActivity();
         instrument.noteOn(48, 0.8);
         instrument.noteOn(55, 0.8);
@@ -194,7 +180,7 @@ TEST_CASE("Through the body the Sitar's strings leave out the bridge points they
         return std::pair{a.bodyContactPoints > 0 ? double(a.bodyLivePoints) / double(a.bodyContactPoints) : -1.0,
                          finite};
     };
-    const auto [onBody, finite] = liveShare(BodyChoice::tanpura);
+    const auto [onBody, finite] = liveShare();
     INFO("live share of the points through the body " << onBody);
     CHECK(finite);
     CHECK(onBody > 0.0);

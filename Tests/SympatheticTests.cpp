@@ -20,23 +20,6 @@ using namespace jawari;
 
 namespace
 {
-// The Sitar preset's string and bridge on the tanpura body, with 13 sympathetic strings.
-InstrumentStructure sitarWithTaraf(int taraf = kMaxSympatheticStrings)
-{
-    InstrumentStructure s;
-    s.stringType = 1;  // sitar steel
-    s.shape = ObstacleShape::parabola;
-    s.obstaclePosition = 0.012;
-    s.obstacleWidth = 0.020;
-    s.curvature = 8.0;
-    s.inharmonicity = 1e-5;
-    s.pluckPosition = 0.2;
-    s.pickupPosition = 0.95;
-    s.body = BodyChoice::tanpura;
-    s.sympatheticStrings = taraf;
-    return s;
-}
-
 // The pitch each key plays: equal temperament with `key` moved to `pitch`.
 KeyboardPitches withKeyAt(int key, double pitch)
 {
@@ -69,12 +52,12 @@ struct Played
 };
 
 // Sa at C#3, the taraf in Kafi; `key` held for `seconds`, playing `keys`' pitch for it, on a new
-// pack of sitarWithTaraf() (or `pack`).
+// pack of test::sitarStructure(kMaxSympatheticStrings) (or `pack`).
 Played play(int key, const KeyboardPitches& keys, double seconds = 1.0, double level = 1.0,
             std::unique_ptr<VoicePack> pack = nullptr)
 {
     if (!pack)
-        pack = buildVoicePack(sitarWithTaraf());
+        pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
     Instrument instrument;
     InstrumentControls controls = tarafControls(SympatheticScale::kafi);
     controls.stiffness = 1e12;
@@ -116,7 +99,8 @@ TEST_CASE("A note at a sympathetic string's pitch or an octave below leaves it a
           "[sympathetic][instrument]")
 {
     // String 3 is the upper Sa, C#4 (61). The note at 62 (D4) lies between it and string 4 (Re, 63).
-    REQUIRE(buildVoicePack(sitarWithTaraf())->sympathetic.size() == size_t(kMaxSympatheticStrings));
+    const auto pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
+    REQUIRE(pack->sympathetic.size() == size_t(kMaxSympatheticStrings));
     const auto keys = equalTemperament();
     const double atPitch = play(61, keys).energy[3];
     const double semitone = play(62, keys).energy[3];
@@ -137,7 +121,7 @@ TEST_CASE("A note at a sympathetic string's pitch or an octave below leaves it a
 
 TEST_CASE("With the body's coupling at zero the sympathetic strings stay exactly at rest", "[sympathetic][instrument]")
 {
-    auto pack = buildVoicePack(sitarWithTaraf());
+    auto pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
     pack->body = std::make_unique<SharedBody>(*instrumentBody(pack->structure), 0.0,
                                               pack->voices.front()->solver().timeStep());
     for (double e : play(61, equalTemperament(), 0.5, 1.0, std::move(pack)).energy)
@@ -240,7 +224,7 @@ TEST_CASE("A scene's sympathetic strings: tuned on their bridges' springs, bad i
 TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.1 cent", "[sympathetic][instrument]")
 {
     // The spring stays as stiff while a retune scales the tension: the voice corrects for it.
-    auto pack = buildVoicePack(sitarWithTaraf());
+    auto pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
     Instrument instrument;
     InstrumentControls controls = tarafControls(SympatheticScale::kalyan);
     start(instrument, *pack, controls);
@@ -266,7 +250,7 @@ TEST_CASE("Retuning ringing sympathetic strings clicks no more than their sound 
     // The taraf ring after a held C#4 is released; then their scale changes from Kafi to Bilaval
     // (four of the thirteen strings, its Ga and Ni, move up by 71 cents in just intonation). A click
     // would be a jump in the output far beyond its sample-to-sample steps before.
-    auto pack = buildVoicePack(sitarWithTaraf());
+    auto pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
     Instrument instrument;
     InstrumentControls controls = tarafControls(SympatheticScale::kafi);
     start(instrument, *pack, controls);

@@ -78,6 +78,32 @@ inline InstrumentStructure scriptStructure(ObstacleShape shape)
     return structure;
 }
 
+// The Sitar preset's string and parabolic bridge on the tanpura body, with `sympatheticStrings` of
+// its sympathetic strings.
+inline InstrumentStructure sitarStructure(int sympatheticStrings)
+{
+    InstrumentStructure s;
+    s.stringType = 1;  // sitar steel
+    s.shape = ObstacleShape::parabola;
+    s.obstaclePosition = 0.012;
+    s.obstacleWidth = 0.020;
+    s.curvature = 8.0;
+    s.inharmonicity = 1e-5;
+    s.pluckPosition = 0.2;
+    s.pickupPosition = 0.95;
+    s.body = BodyChoice::tanpura;
+    s.sympatheticStrings = sympatheticStrings;
+    return s;
+}
+
+// The instrument playing `pack` with `controls`, settled on them.
+inline void start(Instrument& instrument, VoicePack& pack, const InstrumentControls& controls)
+{
+    instrument.setControls(controls);
+    instrument.install(&pack, nullptr);
+    instrument.settleControls();
+}
+
 // The paper's string (docs/design.md section 3) with a chosen damping law.
 inline StringParameters paperString(DampingLaw law = DampingLaw::valette)
 {
