@@ -42,12 +42,20 @@ void Instrument::stepOnBody(Sounding& s, int samples)
         pack_->bodyStreamStarted = false;
         return;
     }
-    // The sympathetic strings can hold no more than the played strings have had between them.
+    // The sympathetic strings can hold no more than the played strings have had between them; while
+    // a pluck's pulse still puts energy in, that is not known yet, and their guard is held open.
     double supply = 0.0;
+    bool plucking = false;
     for (int i = 0; i < s.count; ++i)
+    {
         supply += s.voices[size_t(i)]->energyCeiling();
+        plucking = plucking || s.voices[size_t(i)]->pulsing();
+    }
     for (int j = 0; j < sympathetic_.count(); ++j)
+    {
+        sympathetic_.voice(j).holdGuard(plucking);
         sympathetic_.voice(j).allowEnergy(supply);
+    }
     if (!pack_->bodyStreamStarted)
     {
         pack_->bodyStream.start(body.radiation());

@@ -239,13 +239,28 @@ void Voice::raiseCeiling()
     // the pickup's own weights (h^2 / (mu w^2) already carries their units squared over J). H
     // counts what the obstacles hold: a string started inside one is launched by that energy.
     energyCeiling_ = std::max(energyCeiling_, solver_.stringEnergy() + solver_.obstacleEnergy());
+    runawayLimit_ = limitFor(energyCeiling_);
+}
+
+double Voice::limitFor(double ceiling) const
+{
     // The modes above the pickups' band are read by their static response to the contact forces,
     // which H bounds only through the forces.
-    const double forced =
-        std::max(solver_.pickupForceBound(energyCeiling_), solver_.pickupForceBound(energyCeiling_, true));
-    runawayLimit_ = 4.0 * (std::sqrt(2.0 * energyCeiling_ * pickupCompliance_) + forced);
+    const double forced = std::max(solver_.pickupForceBound(ceiling), solver_.pickupForceBound(ceiling, true));
+    double limit = 4.0 * (std::sqrt(2.0 * ceiling * pickupCompliance_) + forced);
     if (quantity_ == PickupQuantity::velocity || quantity_ == PickupQuantity::pressure)
-        runawayLimit_ *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
+        limit *= 4.0 * oversampling_ * hostRate_;  // crude: |v| <= |u| omega, omega < 4 R
+    return limit;
+}
+
+// Held open, the limit is infinite; let go (and no pulse of its own running), it is the ceiling's
+// again, the ceiling not raised to what the string holds now.
+void Voice::holdGuard(bool hold)
+{
+    if (hold)
+        runawayLimit_ = std::numeric_limits<double>::infinity();
+    else if (pulseStep_ < 0 && std::isinf(runawayLimit_))
+        runawayLimit_ = limitFor(energyCeiling_);
 }
 
 void Voice::allowEnergy(double joules)

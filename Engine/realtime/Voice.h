@@ -193,6 +193,9 @@ public:
     // RT: H raised to `joules` (when above it): the energy a string that is never plucked (a
     // sympathetic one) may legitimately take from the strings that are.
     void allowEnergy(double joules);
+    // RT: the runaway guard held open (a string on a body while another's pluck is still putting in
+    // energy that no ceiling counts yet), or back at the ceiling.
+    void holdGuard(bool hold);
 
     // RT: the most Newton iterations of one internal step, and the deepest penetration (m),
     // since the last call.
@@ -223,6 +226,7 @@ private:
     double runawayLimit_ = 1.0;
     double pickupCompliance_ = 0.0;
     void raiseCeiling();
+    double limitFor(double ceiling) const;  // the runaway limit for a string whose H is at most `ceiling`
     int maxIterations_ = 0;
     long iterationCount_ = 0;
     double maxPenetration_ = 0.0;
