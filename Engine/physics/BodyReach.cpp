@@ -9,9 +9,9 @@ namespace jawari
 
 namespace
 {
-constexpr double kHeadroom = 2.0;  // a budget is this many times the energy at the check; the rise, the displacement
-// A string at rest still gets this share of the largest string's energy as its budget, and the
-// bridge this share of the largest rise a string's points allow: the body wakes it slowly.
+constexpr double kHeadroom = 2.0;  // a budget is this many times the energy at the check; the rise, the highest w
+// A string at rest still gets this share of the largest string's energy as its budget: the body
+// wakes it slowly.
 constexpr double kLeastShare = 1e-6;
 }  // namespace
 
