@@ -72,6 +72,8 @@ void ModalSolver::predictOnMovingBridge()
         return;
     }
     state_.toSingle();
+    if (reach_.liveCount() < P_)
+        std::copy(state_.qPrev() + state_.steepFrom(), state_.qPrev() + state_.activeCount(), steepPrevious_.begin());
     predictAtPoints();
 }
 
@@ -211,7 +213,8 @@ void ModalSolver::wakeAllMidStep()
 
 // Point j joins after the prediction was written over q^{n-1} (the single layout, no explicit force:
 // a pushed string has every point live): u^n from q^n, u~ from q~, and u^{n-1} from
-// q^{n-1} = (a q^n - q~) / e, mode by mode (e > 0), exact to rounding.
+// q^{n-1} = (a q^n - q~) / e, mode by mode, exact to rounding where e >= 1e-2; the steeply damped
+// modes after (ModalState::steepFrom) from their q^{n-1} kept by the prediction.
 void ModalSolver::projectPointMidStep(int j)
 {
     const double* q = state_.q();
@@ -219,12 +222,13 @@ void ModalSolver::projectPointMidStep(int j)
     const double* a = state_.a();
     const double* e = state_.e();
     const double* phi = state_.phi(j);
+    const int steep = state_.steepFrom();
     double u = 0.0, uPrev = 0.0, uNext = 0.0;
     for (int p = 0; p < state_.activeCount(); ++p)
     {
         u += phi[p] * q[p];
         uNext += phi[p] * predicted[p];
-        uPrev += phi[p] * ((a[p] * q[p] - predicted[p]) / e[p]);
+        uPrev += phi[p] * (p < steep ? (a[p] * q[p] - predicted[p]) / e[p] : steepPrevious_[size_t(p - steep)]);
     }
     uC_[size_t(j)] = u;
     uCPrev_[size_t(j)] = uPrev;

@@ -325,6 +325,9 @@ private:
     std::vector<ContactSpline> splines_;  // per point, the quadratic-spline method's potential
     // u_C^n, u_C^{n-1}, u~ at the points; the equation's s and b, its solution r and slope G(r).
     std::vector<double> uC_, uCPrev_, uTilde_, s_, b_, r_, slope_, penetration_, pointForce_;
+    // q^{n-1} of the modes from ModalState::steepFrom(), kept by a prediction on a moving bridge that
+    // leaves points out, for projectPointMidStep.
+    std::vector<double> steepPrevious_;
     std::vector<ContactPoint> contacts_;
     OwnedGridTransform transform_;
     int lastIterations_ = 0;

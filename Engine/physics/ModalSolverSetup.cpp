@@ -30,6 +30,7 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     buildModeTables(config);
     for (auto* v : {&uC_, &uCPrev_, &uTilde_, &s_, &b_, &r_, &slope_, &penetration_, &pointForce_})
         v->assign(P_, 0.0);
+    steepPrevious_.assign(size_t(M_), 0.0);
     if (config.transform && P_ > 0)
         transform_ = config.transform(contacts_, lengthMetres_, M_);
     buildContactShapes(config);

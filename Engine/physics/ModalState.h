@@ -48,6 +48,7 @@ struct ModalStateScalars
     ModalLayout layout_ = ModalLayout::single;
     double c1_ = 0.0, c2_ = 0.0;
     double sumAPhiSquared_[2] = {0.0, 0.0}, sumAPhiH_[2] = {0.0, 0.0}, sumAPhiH2_[2] = {0.0, 0.0};  // per damping set
+    int steepFrom_[2] = {0, 0};  // per damping set: steepFrom()
     uint64_t tablesStamp_ = 0;  // new at each compact() and fillTables() (StampedVector.h)
     bool released_ = false;
 };
@@ -148,6 +149,10 @@ public:
     // The stepping arrays (paddedCount() values each).
     const double* a() const { return a_; }
     const double* e() const { return e_; }
+    // The first active mode (of the coefficient set in use) from which on some mode has e < 1e-2:
+    // there q^{n-1} = (a q^n - q~) / e would multiply q~'s rounding by more than 100, so whoever
+    // needs q^{n-1} after q~ was written over it keeps those modes' own (ModalSolver).
+    int steepFrom() const { return steepFrom_[released_ ? 1 : 0]; }
     const double* h() const { return h_; }
     const double* h2() const { return hasSecondPickup_ ? h2_ : nullptr; }  // the second pickup's weights, or null
     const double* phiE() const { return phiE_; }
