@@ -142,6 +142,7 @@ private:
     void stepWithWorker(Sounding& sounding, int samples);
     void stepOnBody(Sounding& sounding, int samples);
     double stepBodyOnce(Sounding& sounding, long k, double dt, ModalSolver** solvers);
+    void silenceBody(Sounding& sounding);
     // Where the chunk's ramps start: the gain and the body's mix as the last chunk left them.
     struct MixStart
     {

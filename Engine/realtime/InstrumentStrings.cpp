@@ -70,7 +70,7 @@ void Instrument::stepOnBody(Sounding& s, int samples)
 
 // One internal step k (of dt seconds) of the chunk, the strings' solvers handed to the body in
 // `solvers`: returns the radiated pressure (Pa), and writes the sympathetic strings' share of it. A
-// body that has run away is silenced with its strings' share.
+// body that has run away, or whose played string has, is silenced with every string on it.
 double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solvers)
 {
     auto& body = *pack_->body;
@@ -84,26 +84,54 @@ double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** so
     activity_.bodySolves += body.lastEvaluations();
     activity_.bodyTrials += body.lastTrials();
     activity_.bodyResolves += body.lastResolved();
+    bool ranAway = false;  // a string's guard restarted it: what it put into the body is no sound
     for (int i = 0; i < s.count; ++i)
     {
         activity_.bodyLivePoints += solvers[i]->livePointCount();
         activity_.bodyContactPoints += solvers[i]->contactCount();
+        const long blowUps = s.voices[size_t(i)]->blowUps();
         s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
+        ranAway = ranAway || s.voices[size_t(i)]->blowUps() != blowUps;
     }
     for (int j = 0; j < taraf; ++j)
+    {
+        const long blowUps = sympathetic_.voice(j).blowUps();
         sympathetic_.voice(j).finishOnBody();  // unheard: the body carries them (the guard still runs)
+        ranAway = ranAway || sympathetic_.voice(j).blowUps() != blowUps;
+    }
     double p = pack_->bodyStream.advance(body.radiation(), PickupQuantity::pressure, dt);
     double part = taraf > 0 ? pack_->sympatheticStream.advance(body.partRadiation(), PickupQuantity::pressure, dt) : 0.0;
-    if (!std::isfinite(p) || !std::isfinite(part))
+    if (ranAway || !std::isfinite(p) || !std::isfinite(part))
     {
-        body.silence();
-        pack_->bodyStream = {};
-        pack_->sympatheticStream = {};
+        silenceBody(s);
+        for (int i = 0; i < s.count; ++i)
+            s.blocks[size_t(i)][k] = 0.0;  // what they played was moved by the runaway
         p = part = 0.0;
     }
     if (taraf > 0)
         pack_->sympatheticBlock[size_t(k)] = part;
     return p;
+}
+
+// The body and every string on it back at rest, the sympathetic strings' ceilings kept. A string
+// that ran away moved the bridge under all the others in its step, and the body left moving would
+// hand that energy on; a string restarted from rest (its ceiling 0) would trip its guard again.
+void Instrument::silenceBody(Sounding& s)
+{
+    pack_->body->silence();
+    for (int i = 0; i < s.count; ++i)
+        s.voices[size_t(i)]->silence();
+    for (int j = 0; j < sympathetic_.count(); ++j)
+    {
+        auto& v = sympathetic_.voice(j);
+        const double ceiling = v.energyCeiling();  // still what the played strings have had
+        const bool held = std::isinf(v.runawayLimit());
+        v.silence();
+        v.allowEnergy(ceiling);
+        v.holdGuard(held);
+    }
+    pack_->bodyStream = {};
+    pack_->sympatheticStream = {};
 }
 
 // The worker takes the last strings and steps them itself, from the front of its share (a string it
