@@ -311,3 +311,37 @@ TEST_CASE("the quadratic spline's force stays within its tolerance of K eta^alph
     // The plugin's steepest law is rebuilt within the reserved capacity (setLaw does not allocate).
     CHECK(ContactSpline({1e13, 4.0}).knotCount() <= ContactSpline::kReservedKnots);
 }
+
+TEST_CASE("the quadratic spline's solve gives G'(r) at its root, as the chord slope's own difference quotient")
+{
+    // G(r) = (psi(s - r) - psi(s)) / r; its derivative at the root (ScalarContactSolution::
+    // slopeDerivative) against a centred difference over +-1e-6 of r. The body's Newton step on the
+    // bridge (SharedBody) takes it.
+    std::mt19937 rng(37);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (double alpha : {1.0, 1.5, 3.0})
+    {
+        const ContactSpline spline({1e11, alpha});
+        auto G = [&](double s, double r) { return (spline.potential(s - r) - spline.potential(s)) / r; };
+        double worst = 0.0;
+        int compared = 0;
+        for (int n = 0; n < 3000; ++n)
+        {
+            const double k = std::pow(10.0, -12.0 + 2.0 * unit(rng)) * 1e13 / 1e11;
+            const double s = 1e-5 * unit(rng) * std::pow(10.0, -2.0 * std::abs(unit(rng)));
+            const double b = 1e-5 * unit(rng) * std::pow(10.0, -2.0 * std::abs(unit(rng)));
+            const auto sol = spline.solve(s, b, k);
+            REQUIRE(std::isfinite(sol.slopeDerivative));
+            const double h = 1e-6 * std::abs(sol.r);
+            if (!(h > 1e-13))
+                continue;  // a root at r ~ 0: the quotient has nothing to difference
+            const double difference = (G(s, sol.r + h) - G(s, sol.r - h)) / (2.0 * h);
+            const double scale = std::abs(difference) + std::abs(sol.slope / sol.r);
+            worst = std::max(worst, std::abs(sol.slopeDerivative - difference) / scale);
+            ++compared;
+        }
+        INFO("alpha " << alpha << ": " << compared << " roots compared, worst relative error " << worst);
+        CHECK(compared > 1000);
+        CHECK(worst < 1e-4);
+    }
+}

@@ -10,6 +10,8 @@
 //
 // Everything here is RT: pure arithmetic, no allocation.
 
+#include <limits>
+
 namespace jawari
 {
 
@@ -102,6 +104,8 @@ struct ScalarContactSolution
 {
     double r = 0.0;
     double slope = 0.0;  // G(r): the force per metre is -slope
+    // dG/dr at the root where the solver has it in closed form (ContactSpline), else NaN.
+    double slopeDerivative = std::numeric_limits<double>::quiet_NaN();
     int iterations = 0;  // Halley or Newton steps
     // The root's penetration p = s - r with p^alpha, formed without a pow: from D (p^beta = s^beta +
     // D (p - s)) where p >= s/2, else from the solve's last pow where p is within reach of it. xAlpha

@@ -129,6 +129,7 @@ ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
     if (s <= 0.0 && s - b <= 0.0)
     {
         sol.r = b;  // out of contact at both ends
+        sol.slopeDerivative = 0.0;
         return sol;
     }
     const double psiS = potential(s);
@@ -138,6 +139,7 @@ ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
         const double disc = std::sqrt(b * b + 4.0 * k * psiS);
         sol.r = b >= 0.0 ? 0.5 * (b + disc) : 2.0 * k * psiS / (disc - b);
         sol.slope = -psiS / sol.r;
+        sol.slopeDerivative = psiS / (sol.r * sol.r);  // G = -psi(s)/r
         return sol;
     }
     const int n = knotCount();
@@ -165,6 +167,9 @@ ScalarContactSolution ContactSpline::solve(double s, double b, double k) const
     const bool sameInterval = s >= eta_[j] && (j + 1 == size_t(n) || s <= eta_[j + 1]);
     // The chord slope, without cancellation where s and p share the interval.
     sol.slope = sameInterval ? -(f_[j] + 0.5 * m * (p + s - 2.0 * eta_[j])) : (potential(p) - psiS) / r;
+    // G(r) = (psi(s - r) - psi(s)) / r, so G' = (-psi'(p) - G) / r; on s's own interval psi is one
+    // quadratic and G' = m / 2 exactly.
+    sol.slopeDerivative = sameInterval ? 0.5 * m : (-force(p) - sol.slope) / r;
     sol.r = r;
     return sol;
 }

@@ -111,9 +111,11 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
     return force;
 }
 
-double ModalSolver::trialOnMovingBridge(double before, double move) const
+double ModalSolver::trialOnMovingBridge(double before, double move, double* slope) const
 {
     int j = 0;  // a string's one point: its scalar equation is its solve, the trial exact
+    if (slope != nullptr)
+        *slope = 0.0;
     if (P_ == 0 || (P_ > 1 && pressing_.empty()))
         return 0.0;
     if (P_ > 1)
@@ -123,6 +125,12 @@ double ModalSolver::trialOnMovingBridge(double before, double move) const
             return std::numeric_limits<double>::quiet_NaN();
     }
     const auto solution = solvePointAlone(j, sOnBridge(j, before), bOnBridge(j, move));
+    if (slope != nullptr)
+    {
+        // r + k G(r) = b with db/dmove = -1: dr/dmove = -1 / (1 + k G'), and F = w G.
+        const double k = system_.coupling()(j, j), g = solution.slopeDerivative;
+        *slope = -contacts_[j].weight * g / (1.0 + k * g);
+    }
     if (P_ == 1)
     {
         trial_ = solution;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
@@ -112,12 +113,18 @@ double SharedBody::solveForce(ModalSolver* const* strings, int from, int to, dou
 }
 
 // The same by trials (ModalSolver::trialOnMovingBridge; exact for a string with one point): NaN if
-// one has none.
-double SharedBody::trialForce(ModalSolver* const* strings, int from, int to, double before, double bridge) const
+// one has none. `slope` (optional): dF/dW, NaN unless every trial has it in closed form.
+double SharedBody::trialForce(ModalSolver* const* strings, int from, int to, double before, double bridge,
+                              double* slope) const
 {
-    double force = 0.0;
+    double force = 0.0, dForce = 0.0, one = 0.0;
     for (int i = from; i < to; ++i)
-        force += strings[i]->trialOnMovingBridge(before, bridge - before);
+    {
+        force += strings[i]->trialOnMovingBridge(before, bridge - before, slope != nullptr ? &one : nullptr);
+        dForce += one;
+    }
+    if (slope != nullptr)
+        *slope = dForce;
     return force;
 }
 
@@ -147,28 +154,38 @@ void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at
 
 namespace
 {
+// R(W) and, where every string's trial has it in closed form, R'(W) (else NaN).
+struct Residual
+{
+    double value = 0.0;
+    double slope = std::numeric_limits<double>::quiet_NaN();
+};
+
 // The secant on R(W) from w0 (whose residual is r0): the next W from `slope` (R' as last measured,
-// renewed by each secant step), then from the last two. Stops at a residual within tolerance(W),
-// one that no longer moves, or when `evaluations` (of R, counted here) reaches `most`.
-template <typename Residual, typename Tolerance>
-double secant(Residual&& residual, Tolerance&& tolerance, double w0, double r0, double& slope, int& evaluations,
+// renewed by each step), then from the last two; Newton's step wherever R' is known. Stops at a
+// residual within tolerance(W), one that no longer moves, or when `evaluations` (of R, counted
+// here) reaches `most`.
+template <typename ResidualOf, typename Tolerance>
+double secant(ResidualOf&& residual, Tolerance&& tolerance, double w0, Residual r0, double& slope, int& evaluations,
               int most)
 {
-    if (std::abs(r0) <= tolerance(w0))
+    if (std::abs(r0.value) <= tolerance(w0))
         return w0;
-    double w1 = w0 - r0 / slope;
+    if (std::isfinite(r0.slope))
+        slope = r0.slope;
+    double w1 = w0 - r0.value / slope;
     while (true)
     {
-        const double r1 = residual(w1);
+        const Residual r1 = residual(w1);
         ++evaluations;
-        if (std::abs(r1) <= tolerance(w1) || r1 == r0 || evaluations >= most)
+        if (std::abs(r1.value) <= tolerance(w1) || r1.value == r0.value || evaluations >= most)
             return w1;
-        const double s = (r1 - r0) / (w1 - w0);
+        const double s = std::isfinite(r1.slope) ? r1.slope : (r1.value - r0.value) / (w1 - w0);
         if (std::isfinite(s) && s > 0.5)  // R' = 1 - beta F' >= 1: F falls as the bridge rises into the strings
             slope = s;
         w0 = w1;
         r0 = r1;
-        w1 -= r1 / slope;
+        w1 -= r1.value / slope;
     }
 }
 }  // namespace
@@ -187,17 +204,21 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
     auto linear = [&](double w) { return split_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
     double w = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
     constexpr int kMostEvaluations = 16;
-    if (const double trial = trialForce(strings, 0, split_, before, w); std::isfinite(trial))
+    auto trialResidual = [&](double x) {
+        double dForce = 0.0;
+        const double force = trialForce(strings, 0, split_, before, x, &dForce);
+        return Residual{x - predicted - beta_ * (force + linear(x)),
+                        1.0 - beta_ * (dForce + (split_ < count_ ? linearSlope_ : 0.0))};
+    };
+    if (const Residual first = trialResidual(w); std::isfinite(first.value))
     {
-        auto trialResidual = [&](double x) {
-            return x - predicted - beta_ * (trialForce(strings, 0, split_, before, x) + linear(x));
-        };
         int trials = 1;
-        w = secant(trialResidual, tolerance, w, w - predicted - beta_ * (trial + linear(w)), slope_, trials,
-                   kMostEvaluations);
+        w = secant(trialResidual, tolerance, w, first, slope_, trials, kMostEvaluations);
         trials_ += trials;
     }
-    auto residual = [&](double x) { return x - predicted - beta_ * (evaluate(strings, before, x) + linear(x)); };
+    auto residual = [&](double x) {
+        return Residual{x - predicted - beta_ * (evaluate(strings, before, x) + linear(x))};
+    };
     int evaluations = 1;
     w = secant(residual, tolerance, w, residual(w), slope_, evaluations, kMostEvaluations);
     evaluations_ += evaluations;

@@ -79,7 +79,8 @@ public:
 
 private:
     double solveForce(ModalSolver* const* strings, int from, int to, double before, double bridge);
-    double trialForce(ModalSolver* const* strings, int from, int to, double before, double bridge) const;
+    double trialForce(ModalSolver* const* strings, int from, int to, double before, double bridge,
+                      double* slope = nullptr) const;
     double evaluate(ModalSolver* const* strings, double before, double bridge);
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
