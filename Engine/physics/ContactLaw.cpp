@@ -318,6 +318,22 @@ double iterateToRoot(const DividedSeries& series, double alpha, double s, double
 
 }  // namespace
 
+double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContactSolution& sol)
+{
+    if (std::isfinite(sol.slopeDerivative))
+        return sol.slopeDerivative;
+    const double r = sol.r, p = s - r;
+    if (r == 0.0)
+        return std::numeric_limits<double>::quiet_NaN();
+    if (!(p > 0.0))
+        return -sol.slope / r;  // off the obstacle at the root: G = -psi(s) / r
+    const double pAlpha = sol.penetration.xAlpha > 0.0 && sol.penetration.x == p ? sol.penetration.xAlpha
+                                                                                  : std::pow(p, law.exponent);
+    if (std::abs(r) < 1e-6 * p)
+        return 0.5 * law.stiffness * law.exponent * pAlpha / p;
+    return (-law.stiffness * pAlpha - sol.slope) / r;
+}
+
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
                                          const DividedSeries* series, const KnownPower* known)
 {

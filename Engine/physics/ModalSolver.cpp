@@ -124,11 +124,12 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
         if (pressing_.size() > 1 || contacts_[j].law.bilateral)
             return std::numeric_limits<double>::quiet_NaN();
     }
-    const auto solution = solvePointAlone(j, sOnBridge(j, before), bOnBridge(j, move));
+    const double s = sOnBridge(j, before);
+    const auto solution = solvePointAlone(j, s, bOnBridge(j, move));
     if (slope != nullptr)
     {
         // r + k G(r) = b with db/dmove = -1: dr/dmove = -1 / (1 + k G'), and F = w G.
-        const double k = system_.coupling()(j, j), g = solution.slopeDerivative;
+        const double k = system_.coupling()(j, j), g = chordSlopeDerivative(contacts_[j].law, s, solution);
         *slope = -contacts_[j].weight * g / (1.0 + k * g);
     }
     if (P_ == 1)

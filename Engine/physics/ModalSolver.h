@@ -133,7 +133,7 @@ public:
     // equation, the others off): a trial for the caller's iteration, nothing solved or kept. 0 if no
     // point pressed; NaN if two did, or a bilateral one (then only a solve tells). A string with one
     // point: its scalar equation, which is its solve, whatever it did before. `slope` (optional): the
-    // trial's dF/dmove where its solver has G' in closed form (the spline), else NaN.
+    // trial's dF/dmove (chordSlopeDerivative).
     double trialOnMovingBridge(double before, double move, double* slope = nullptr) const;
     // RT, on a moving bridge, before predictOnMovingBridge(): the live points for a string whose
     // energy stays at most H while its bridge rises by at most `rise` (m; ContactReach::refresh), or
