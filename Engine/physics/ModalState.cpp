@@ -153,12 +153,9 @@ void ModalState::fillTables(const std::vector<ExactModeCoefficients>& normal,
     pickupCount_ = Mpad_ == Ma_ ? Ma_ : std::min(Mpad_, (read + kernels::kBlock - 1) / kernels::kBlock * kernels::kBlock);
     for (int set = 0; set < 2; ++set)
     {
+        const double* a = set == 0 ? aNormal_ : aReleased_;
         const double* e = set == 0 ? eNormal_ : eReleased_;
         steepFrom_[set] = int(std::find_if(e, e + Ma_, [](double x) { return x < 1e-2; }) - e);
-    }
-    for (int set = 0; set < 2; ++set)
-    {
-        const double* a = set == 0 ? aNormal_ : aReleased_;
         sumAPhiSquared_[set] = sumAPhiH_[set] = sumAPhiH2_[set] = 0.0;
         if (pairable_ && contactCount_ == 1)
             for (int i = 0; i < Ma_; ++i)

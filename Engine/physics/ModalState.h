@@ -149,8 +149,8 @@ public:
     // The stepping arrays (paddedCount() values each).
     const double* a() const { return a_; }
     const double* e() const { return e_; }
-    // The first active mode (of the coefficient set in use) from which on some mode has e < 1e-2:
-    // there q^{n-1} = (a q^n - q~) / e would multiply q~'s rounding by more than 100, so whoever
+    // The first active mode (of the coefficient set in use) with e < 1e-2, or activeCount(): from
+    // there on q^{n-1} = (a q^n - q~) / e could multiply q~'s rounding by more than 100, so whoever
     // needs q^{n-1} after q~ was written over it keeps those modes' own (ModalSolver).
     int steepFrom() const { return steepFrom_[released_ ? 1 : 0]; }
     const double* h() const { return h_; }
