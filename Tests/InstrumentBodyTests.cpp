@@ -2,6 +2,7 @@
 // tanpura body, their radiated sound, the soft pluck, the mix with the pickup.
 
 #include "TestSupport.h"
+#include "offline/Analysis.h"
 #include "realtime/Instrument.h"
 #include "realtime/VoicePack.h"
 
@@ -116,6 +117,47 @@ TEST_CASE("Without a body the mix is ignored: the pickup plays bit for bit", "[i
     const auto plain = tanpuraNote(BodyChoice::none, PluckStyle::sharp, 1.0, 0.3);
     const auto mixed = tanpuraNote(BodyChoice::none, PluckStyle::sharp, 0.2, 0.3);
     CHECK(plain == mixed);
+}
+
+TEST_CASE("Through the body the stereo width spreads its sound from the centre listener to the left and right "
+          "ones: at 0 both channels alike to the last bit; at 1 alike in the low partials and apart in the high",
+          "[instrument][body]")
+{
+    // A sharply plucked C3 on the tanpura body, its radiated sound alone (the body's mix at 1), 1 s.
+    auto play = [](double width) {
+        auto pack = buildVoicePack(tanpuraStructure(BodyChoice::tanpura, PluckStyle::sharp));
+        Instrument instrument;
+        InstrumentControls controls;
+        controls.bodyMix = 1.0;
+        controls.stereoWidth = width;
+        test::start(instrument, *pack, controls);
+        instrument.noteOn(48, 0.8);
+        return test::playStereo(instrument, 1.0);
+    };
+    auto correlation = [](const std::vector<double>& x, const std::vector<double>& y, double low, double high) {
+        const auto a = zeroPhaseBand(x, 48000.0, low, high), b = zeroPhaseBand(y, 48000.0, low, high);
+        double xy = 0.0, xx = 0.0, yy = 0.0;
+        for (size_t n = 0; n < a.size(); ++n)
+        {
+            xy += a[n] * b[n];
+            xx += a[n] * a[n];
+            yy += b[n] * b[n];
+        }
+        return xy / std::sqrt(xx * yy);
+    };
+    const auto mono = play(0.0);
+    CHECK(mono.first == mono.second);
+    const auto wide = play(1.0);
+    const double low = correlation(wide.first, wide.second, 80.0, 250.0);
+    const double high = correlation(wide.first, wide.second, 2000.0, 8000.0);
+    const double left = 20.0 * std::log10(rms(wide.first) / rms(mono.first));
+    const double right = 20.0 * std::log10(rms(wide.second) / rms(mono.first));
+    INFO("left-right correlation 80-250 Hz " << low << ", 2-8 kHz " << high << "; left " << left << " dB, right "
+                                             << right << " dB against the centre");
+    CHECK(low > 0.8);
+    CHECK(std::abs(high) < 0.5);
+    CHECK(std::abs(left) < 3.0);
+    CHECK(std::abs(right) < 3.0);
 }
 
 TEST_CASE("Through the body a note feels another: on rigid supports it does not, nor with the body driven one "

@@ -13,24 +13,33 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace jawari::test
 {
 
-// Renders `seconds` of the instrument in blocks and returns the left channel.
-inline std::vector<double> playLeft(Instrument& instrument, double seconds, double rate = 48000.0, int block = 256)
+// Renders `seconds` of the instrument in blocks and returns the left and right channels.
+inline std::pair<std::vector<double>, std::vector<double>> playStereo(Instrument& instrument, double seconds,
+                                                                      double rate = 48000.0, int block = 256)
 {
-    std::vector<double> out;
+    std::pair<std::vector<double>, std::vector<double>> out;
     std::vector<float> l(static_cast<size_t>(block)), r(static_cast<size_t>(block));
     const long total = std::lround(seconds * rate);
     for (long n = 0; n < total; n += block)
     {
         const int count = int(std::min<long>(block, total - n));
         instrument.render(l.data(), r.data(), count);
-        out.insert(out.end(), l.begin(), l.begin() + count);
+        out.first.insert(out.first.end(), l.begin(), l.begin() + count);
+        out.second.insert(out.second.end(), r.begin(), r.begin() + count);
     }
     return out;
+}
+
+// The same, the left channel alone.
+inline std::vector<double> playLeft(Instrument& instrument, double seconds, double rate = 48000.0, int block = 256)
+{
+    return playStereo(instrument, seconds, rate, block).first;
 }
 
 // RMS of 20 ms frames; the frame of the largest, as its centre's time (s).

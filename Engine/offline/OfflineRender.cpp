@@ -82,7 +82,8 @@ void addBody(SolverSetup& s, const Scene& scene, const std::vector<char>& onBody
     s.config = withBody(s.config, {&body.body, onBody, body.coupling});
     s.initial.resize(size_t(s.config.modes.size()), 0.0);
     if (scene.pickup.quantity == PickupQuantity::pressure)
-        s.config.pickupWeights = radiationWeights(body.body, stringModes, scene.string.linearDensity);
+        s.config.pickupWeights =
+            radiationWeights(body.body, stringModes, scene.string.linearDensity, pickupListener(scene));
 }
 
 // The reference (docs/design.md section 2): M = N - 1 modes, distributed obstacles sampled on their

@@ -32,6 +32,7 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     {
         v.body = scene.body->body;
         v.bodyCoupling = scene.body->coupling;
+        v.listener = pickupListener(scene);
     }
     v.excitationPosition = scene.excitation.position;
     v.pickupPosition = scene.pickup.position;
@@ -145,6 +146,7 @@ struct VoicesOnBody
     std::vector<char> plucked;  // per voice: plucked from a shape (the others start at rest)
     std::unique_ptr<SharedBody> body;
     int split = 0;
+    int listener = 0;  // where the pressure is heard
 
     // One host sample's internal steps of every voice and the body, as the instrument steps them
     // (Instrument::stepBodyOnce): into `internal`, the played string's pickup, or the body's
@@ -169,7 +171,7 @@ struct VoicesOnBody
             for (size_t i = 1; i < voices.size(); ++i)
                 voices[i]->finishOnBody();
             if (radiated != nullptr)
-                internal[k] = radiated->advance(body->radiation(), PickupQuantity::pressure, dt);
+                internal[k] = radiated->advance(body->radiation(listener), PickupQuantity::pressure, dt);
         }
     }
 };
@@ -204,6 +206,7 @@ VoicesOnBody voicesOnBody(const Scene& scene)
         return SharedBody::standsOnSprings(voice->solver());
     });
     v.split = othersLinear ? 1 : static_cast<int>(v.voices.size());
+    v.listener = pickupListener(scene);
     for (size_t i = 0; i < v.voices.size(); ++i)
     {
         auto& solver = v.voices[i]->solver();
@@ -238,7 +241,7 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
     std::vector<double> raw(count + latency);
     std::vector<double> internal(static_cast<size_t>(os));
     VoiceMotion::PickupStream radiated;
-    radiated.start(v.body->radiation());
+    radiated.start(v.body->radiation(v.listener));
     ScopedFlushDenormals noDenormals;
     const double start = threadCpuSeconds();
     for (size_t m = 0; m < raw.size(); ++m)

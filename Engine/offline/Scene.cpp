@@ -269,6 +269,13 @@ void readPickup(const json& value, Pickup& pickup)
                       : q == "pressure" ? PickupQuantity::pressure
                       : q == "bridge_force" ? PickupQuantity::bridgeForce
                                         : PickupQuantity::displacement;
+    if (r.has("listener"))
+    {
+        const json& name = r.raw("listener");
+        if (!name.is_string() || name.get<std::string>().empty())
+            throw SceneError(r.at("listener"), "must be the name of one of the body's listeners, got " + typeName(name));
+        pickup.listener = name.get<std::string>();
+    }
     r.rejectUnknown();
 }
 

@@ -46,6 +46,7 @@ struct Pickup
 {
     double position = 0.992;  // m
     PickupQuantity quantity = PickupQuantity::displacement;
+    std::string listener;  // "pressure": the body's listener by name (empty: its first)
 };
 
 struct Simulation
@@ -98,6 +99,10 @@ struct SceneBody
 
 // One flag per obstacle: whether it stands on the body (every obstacle without a body).
 std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body);
+
+struct Scene;
+// The index of the body's listener that the scene's "pressure" pickup hears (0 without a name).
+int pickupListener(const Scene& scene);
 
 struct Scene
 {

@@ -10,6 +10,13 @@
 
 namespace jawari
 {
+int pickupListener(const Scene& scene)
+{
+    if (!scene.body || scene.pickup.listener.empty())
+        return 0;
+    return std::max(0, listenerIndex(scene.body->body, scene.pickup.listener));
+}
+
 std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body)
 {
     std::vector<char> on(obstacleCount, body ? 0 : 1);
@@ -24,7 +31,24 @@ namespace jawari::scene_reading
 {
 namespace
 {
-BodyMode readBodyMode(const json& value, const std::string& path)
+// A mode's "radiation": one weight (a body with one listener), or one per listener.
+void readRadiation(ObjectReader& r, size_t listeners, BodyMode& m)
+{
+    if (!r.has("radiation"))
+        return;
+    if (listeners == 1 && !r.raw("radiation").is_array())
+    {
+        m.radiation[0] = r.number("radiation", 0.0);
+        return;
+    }
+    const auto weights = r.numbers("radiation");
+    if (weights.size() != listeners)
+        throw SceneError(r.at("radiation"), "needs one weight per listener (" + std::to_string(listeners) + "), got "
+                                                + std::to_string(weights.size()));
+    std::copy(weights.begin(), weights.end(), m.radiation.begin());
+}
+
+BodyMode readBodyMode(const json& value, const std::string& path, size_t listeners)
 {
     ObjectReader r(value, path);
     BodyMode m;
@@ -34,18 +58,40 @@ BodyMode readBodyMode(const json& value, const std::string& path)
     m.frequencyHz = r.positive("frequency", 0.0);
     m.sigma = r.nonNegative("damping", 0.0);
     m.massKg = r.positive("mass", 0.0);
-    m.radiation = r.number("radiation", 0.0);
+    readRadiation(r, listeners, m);
     r.rejectUnknown();
     return m;
 }
 
-std::vector<BodyMode> readBodyModes(const json& modes, const std::string& path)
+std::vector<BodyMode> readBodyModes(const json& modes, const std::string& path, size_t listeners)
 {
     if (!modes.is_array() || modes.empty())
         throw SceneError(path, "must be a non-empty array of modes, got " + typeName(modes));
     std::vector<BodyMode> out;
     for (size_t k = 0; k < modes.size(); ++k)
-        out.push_back(readBodyMode(modes[k], path + "[" + std::to_string(k) + "]"));
+        out.push_back(readBodyMode(modes[k], path + "[" + std::to_string(k) + "]", listeners));
+    return out;
+}
+
+// A listed body's "listeners": 1 to kMostListeners names ("centre" alone without them).
+std::vector<std::string> readListeners(ObjectReader& r)
+{
+    if (!r.has("listeners"))
+        return {"centre"};
+    const json& names = r.raw("listeners");
+    if (!names.is_array() || names.empty() || names.size() > size_t(kMostListeners))
+        throw SceneError(r.at("listeners"), "must be an array of 1 to " + std::to_string(kMostListeners)
+                                                + " names, got " + typeName(names));
+    std::vector<std::string> out;
+    for (size_t l = 0; l < names.size(); ++l)
+    {
+        const std::string here = r.at("listeners") + "[" + std::to_string(l) + "]";
+        if (!names[l].is_string() || names[l].get<std::string>().empty())
+            throw SceneError(here, "must be a name, got " + typeName(names[l]));
+        if (std::find(out.begin(), out.end(), names[l].get<std::string>()) != out.end())
+            throw SceneError(here, "names a listener twice ('" + names[l].get<std::string>() + "')");
+        out.push_back(names[l].get<std::string>());
+    }
     return out;
 }
 
@@ -143,7 +189,10 @@ SceneBody readBody(const json& value, const Scene& scene)
         body.body = *factoryBody(r.string("model", "", names));
     }
     else
-        body.body.modes = readBodyModes(r.raw("modes"), r.at("modes"));
+    {
+        body.body.listeners = readListeners(r);
+        body.body.modes = readBodyModes(r.raw("modes"), r.at("modes"), body.body.listeners.size());
+    }
     // Every mode's damping scaled (0: a lossless body, for the energy balance).
     const double dampingScale = r.nonNegative("damping_scale", 1.0);
     for (auto& mode : body.body.modes)
@@ -169,6 +218,8 @@ void validateSceneBody(const Scene& scene)
 {
     if (scene.pickup.quantity == PickupQuantity::bridgeForce && !scene.simulation.reference)
         throw SceneError("pickup.quantity", "\"bridge_force\" is read by the reference only (\"method\": \"reference\")");
+    if (!scene.pickup.listener.empty() && scene.pickup.quantity != PickupQuantity::pressure)
+        throw SceneError("pickup.listener", "is where the \"pressure\" pickup hears the body; this pickup reads the string");
     if (!scene.body)
     {
         if (scene.pickup.quantity == PickupQuantity::pressure)
@@ -176,6 +227,13 @@ void validateSceneBody(const Scene& scene)
         return;
     }
     const auto& body = *scene.body;
+    if (!scene.pickup.listener.empty() && listenerIndex(body.body, scene.pickup.listener) < 0)
+    {
+        std::string names;
+        for (const auto& name : body.body.listeners)
+            names += (names.empty() ? "'" : ", '") + name + "'";
+        throw SceneError("pickup.listener", "the body has no listener '" + scene.pickup.listener + "' (it has " + names + ")");
+    }
     for (size_t i = 0; i < body.obstacles.size(); ++i)
         if (body.obstacles[i] < 0 || size_t(body.obstacles[i]) >= scene.obstacles.size())
             throw SceneError("body.obstacles[" + std::to_string(i) + "]",

@@ -1,14 +1,17 @@
 #include "physics/FactoryBodies.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace jawari
 {
 namespace
 {
-constexpr double kAirDensity = 1.2;  // kg/m^3
+constexpr double kAirDensity = 1.2;     // kg/m^3
+constexpr double kSpeedOfSound = 343.0;  // m/s, at 20 C
 
 double fractionalPart(double x)
 {
@@ -71,12 +74,12 @@ double gainAt(const std::vector<BandLevel>& bands, const std::vector<double>& ga
 
 // Mean |P(f)|^2 over [low, high]: the trapezoid rule on a grid whose step is a fraction of the
 // narrowest peak's half-power width there (f eta).
-double meanPressurePower(const ModalBody& body, double low, double high, double lossFactor)
+double meanPressurePower(const ModalBody& body, double low, double high, double lossFactor, int listener)
 {
     const double ratio = 1.0 + lossFactor / 8.0;
     double sum = 0.0, f = low;
     auto power = [&](double x) {
-        const auto r = bodyResponse(body, x);
+        const auto r = bodyResponse(body, x, listener);
         return r.pressureReal * r.pressureReal + r.pressureImag * r.pressureImag;
     };
     double previous = power(f);
@@ -98,14 +101,66 @@ double smallestLossFactor(const ModalBody& body)
         eta = std::min(eta, m.sigma / (std::numbers::pi * m.frequencyHz));
     return std::max(eta, 1e-4);
 }
+
+// A number in [0, 1) drawn from an index by the SplitMix64 generator's output function (Steele, Lea
+// and Flood 2014): the same index gives the same number on every machine.
+double uniformOfIndex(std::uint64_t index)
+{
+    std::uint64_t z = index * 0x9E3779B97F4A7C15ull + 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return double(z >> 11) * 0x1.0p-53;
+}
+
+// Each band's modes scaled by what the band lacks at the listener; the bands' tails reach their
+// neighbours, so a few passes.
+void fitBands(ModalBody& body, const PlateBodyRecipe& r, double referencePower, int listener)
+{
+    for (int pass = 0; pass < 8; ++pass)
+    {
+        std::vector<double> gain;
+        for (const auto& band : r.bands)
+        {
+            const double want = referencePower * std::pow(10.0, band.levelDb / 10.0);
+            gain.push_back(
+                std::sqrt(want / meanPressurePower(body, band.lowHz, band.highHz, r.lossFactor, listener)));
+        }
+        for (auto& mode : body.modes)
+            mode.radiation[size_t(listener)] *= gainAt(r.bands, gain, mode.frequencyHz);
+    }
+}
+
+// Mode k's unscaled weights at the left and right listeners, given its weight `centre` (+-1) at the
+// centre: jointly they have unit variance over the modes and the correlations of directionCorrelation
+// (centre to a side: the sides' sine apart; left to right: twice that), the part a side shares with
+// the centre plus a part of its own, at an angle drawn by a hash of k (a low-discrepancy sequence
+// would drift with the centre's signs over a band's run of modes, and correlate them).
+std::array<double, 2> sideWeights(int k, double centre, double f, double radius, double angleDegrees)
+{
+    const double u = std::sin(angleDegrees * std::numbers::pi / 180.0);
+    const double r1 = directionCorrelation(f, radius, u), r2 = directionCorrelation(f, radius, 2.0 * u);
+    const double own = 1.0 - r1 * r1, shared = r2 - r1 * r1;  // var(e_L) = var(e_R), cov(e_L, e_R)
+    const double angle = 2.0 * std::numbers::pi * uniformOfIndex(std::uint64_t(k));
+    const double n1 = std::numbers::sqrt2 * std::cos(angle), n2 = std::numbers::sqrt2 * std::sin(angle);
+    const double even = std::sqrt(std::max(0.0, 0.5 * (own + shared))), odd = std::sqrt(std::max(0.0, 0.5 * (own - shared)));
+    return {r1 * centre + even * n1 + odd * n2, r1 * centre + even * n1 - odd * n2};
+}
 }  // namespace
 
-std::vector<double> bodyBandLevels(const ModalBody& body, const std::vector<BandLevel>& bands, int referenceBand)
+double directionCorrelation(double frequencyHz, double radiusMetres, double sineApart)
+{
+    const double x = 2.0 * std::numbers::pi * frequencyHz * radiusMetres * sineApart / kSpeedOfSound;
+    return x < 1e-8 ? 1.0 : 2.0 * std::cyl_bessel_j(1.0, x) / x;
+}
+
+std::vector<double> bodyBandLevels(const ModalBody& body, const std::vector<BandLevel>& bands, int referenceBand,
+                                   int listener)
 {
     const double eta = smallestLossFactor(body);
     std::vector<double> levels;
     for (const auto& band : bands)
-        levels.push_back(10.0 * std::log10(meanPressurePower(body, band.lowHz, band.highHz, eta)));
+        levels.push_back(10.0 * std::log10(meanPressurePower(body, band.lowHz, band.highHz, eta, listener)));
     const double reference = levels[size_t(referenceBand)];
     for (double& l : levels)
         l -= reference;
@@ -118,30 +173,23 @@ ModalBody plateBody(const PlateBodyRecipe& r)
     const double plateMass = surfaceDensity * r.areaM2;
     ModalBody body;
     body.name = r.name;
+    body.listeners = {"centre", "left", "right"};
     const auto frequencies = modeFrequencies(r);
+    const double radius = std::sqrt(r.areaM2 / std::numbers::pi);
     for (size_t k = 0; k < frequencies.size(); ++k)
     {
         const double s = squaredShapeAtBridge(int(k));
         const double sign = fractionalPart(double(k + 1) * std::numbers::sqrt2) < 0.5 ? 1.0 : -1.0;
         const double f = frequencies[k];
-        body.modes.push_back({f, std::numbers::pi * f * r.lossFactor, plateMass / s, sign / std::sqrt(s)});
+        const auto sides = sideWeights(int(k), sign, f, radius, r.sideAngleDegrees);
+        body.modes.push_back({f, std::numbers::pi * f * r.lossFactor, plateMass / s,
+                              {sign / std::sqrt(s), sides[0] / std::sqrt(s), sides[1] / std::sqrt(s)}});
     }
     // The reference band's level: the infinite plate's |p / F| below coincidence.
     const double referencePower =
         std::pow(kAirDensity / (2.0 * std::numbers::sqrt2 * std::numbers::pi * r.listenerMetres * surfaceDensity), 2.0);
-    // Each band's modes scaled by what the band lacks; the bands' tails reach their neighbours, so a
-    // few passes.
-    for (int pass = 0; pass < 8; ++pass)
-    {
-        std::vector<double> gain;
-        for (const auto& band : r.bands)
-        {
-            const double want = referencePower * std::pow(10.0, band.levelDb / 10.0);
-            gain.push_back(std::sqrt(want / meanPressurePower(body, band.lowHz, band.highHz, r.lossFactor)));
-        }
-        for (auto& mode : body.modes)
-            mode.radiation *= gainAt(r.bands, gain, mode.frequencyHz);
-    }
+    for (int listener = 0; listener < int(body.listeners.size()); ++listener)
+        fitBands(body, r, referencePower, listener);
     return body;
 }
 
@@ -164,6 +212,7 @@ const PlateBodyRecipe& tanpuraBodyRecipe()
         r.lowestHz = 100.0;
         r.highestHz = 13000.0;
         r.listenerMetres = 0.8;
+        r.sideAngleDegrees = 30.0;
         // DAFx-16's Fig. 5, their impulse response from the bridge to a microphone at 80 cm, in
         // bands relative to 1.25-2 kHz (docs/design.md section 1, "The body").
         const double edges[] = {50, 80, 125, 200, 315, 500, 800, 1250, 2000, 3150, 5000, 8000, 12500};
@@ -178,8 +227,10 @@ const PlateBodyRecipe& tanpuraBodyRecipe()
 
 std::optional<ModalBody> factoryBody(const std::string& name)
 {
+    // Fitted once per process (its three listeners' fits take a good part of a second), then copied.
+    static const ModalBody tanpura = plateBody(tanpuraBodyRecipe());
     if (name == "tanpura")
-        return plateBody(tanpuraBodyRecipe());
+        return tanpura;
     return std::nullopt;
 }
 

@@ -16,7 +16,12 @@
 //    (interpolated in log frequency between the bands' centres) until the response from the bridge
 //    force to the pressure has the measured band levels, the reference
 //    band at the infinite plate's point-force radiation below coincidence, |p / F| =
-//    rho_air / (2 sqrt(2) pi r rho h) at r metres.
+//    rho_air / (2 sqrt(2) pi r rho h) at r metres;
+//  - the listeners: the centre where the response was measured, and left and right at the same
+//    distance, sideAngleDegrees to either side: each mode's weights there share with the centre's
+//    what directionCorrelation (below) gives, the rest from a deterministic sequence, and each
+//    listener's bands are fitted to the same measured levels (the band's mean power is about the
+//    same in every direction when a band holds many modes).
 
 #include "physics/ModalBody.h"
 
@@ -44,7 +49,8 @@ struct PlateBodyRecipe
     double lossFactor = 0.0;
     double lowestHz = 0.0;       // the first mode
     double highestHz = 0.0;      // modes up to here
-    double listenerMetres = 0.0;  // where the response was measured
+    double listenerMetres = 0.0;  // where the response was measured: the centre listener
+    double sideAngleDegrees = 0.0;  // the left and right listeners, this far to either side of it
     std::vector<BandLevel> bands;  // the measured response, ascending
     int referenceBand = 0;         // the band at 0 dB
 };
@@ -52,14 +58,23 @@ struct PlateBodyRecipe
 // The recipe's body (see above). Deterministic: the same recipe gives the same modes, bit for bit.
 ModalBody plateBody(const PlateBodyRecipe& recipe);
 
-// The band levels of a body's response from the bridge force to the pressure (dB, relative to the
-// recipe's reference band): the mean of |P(f)|^2 over each band, on a grid fine enough for every peak.
-std::vector<double> bodyBandLevels(const ModalBody& body, const std::vector<BandLevel>& bands, int referenceBand);
+// The band levels of a body's response from the bridge force to the pressure at a listener (dB,
+// relative to the recipe's reference band): the mean of |P(f)|^2 over each band, on a grid fine
+// enough for every peak.
+std::vector<double> bodyBandLevels(const ModalBody& body, const std::vector<BandLevel>& bands, int referenceBand,
+                                   int listener = 0);
+
+// How alike a plate's radiation is in two directions whose sines differ by `sineApart`, at a
+// frequency: the correlation over many modes of their far-field pressures, 2 J1(x) / x with
+// x = k_air a sineApart for a disc of radius a whose modes' velocity patterns are finer than the
+// wavelength in air (the van Cittert-Zernike theorem). 1 at low frequencies (the plate radiates the
+// same everywhere), 0 first where x = 3.83.
+double directionCorrelation(double frequencyHz, double radiusMetres, double sineApart);
 
 // The tanpura's: DAFx-16's measured response (van Walstijn, Bridges & Mehes, their Fig. 5).
 const PlateBodyRecipe& tanpuraBodyRecipe();
 
-// A factory body by name ("tanpura"), or none for an unknown name.
+// A factory body by name ("tanpura"), or none for an unknown name. Thread-safe: each is built once.
 std::optional<ModalBody> factoryBody(const std::string& name);
 std::vector<const char*> factoryBodyNames();
 

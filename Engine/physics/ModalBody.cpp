@@ -10,8 +10,24 @@
 namespace jawari
 {
 
+int listenerIndex(const ModalBody& body, const std::string& name)
+{
+    for (size_t l = 0; l < body.listeners.size(); ++l)
+        if (body.listeners[l] == name)
+            return int(l);
+    return -1;
+}
+
 void validateBody(const ModalBody& body)
 {
+    const auto& names = body.listeners;
+    if (names.empty() || names.size() > size_t(kMostListeners))
+        throw std::invalid_argument("a body has 1 to " + std::to_string(kMostListeners) + " listeners, not "
+                                    + std::to_string(names.size()));
+    for (size_t l = 0; l < names.size(); ++l)
+        if (names[l].empty() || listenerIndex(body, names[l]) != int(l))
+            throw std::invalid_argument("listener " + std::to_string(l) + ": its name must be given once, got \""
+                                        + names[l] + "\"");
     for (size_t k = 0; k < body.modes.size(); ++k)
     {
         const auto& m = body.modes[k];
@@ -22,8 +38,9 @@ void validateBody(const ModalBody& body)
             throw std::invalid_argument(which + "its damping must be finite and >= 0 /s");
         if (!(std::isfinite(m.massKg) && m.massKg > 0.0))
             throw std::invalid_argument(which + "its mass must be finite and > 0 kg");
-        if (!std::isfinite(m.radiation))
-            throw std::invalid_argument(which + "its radiation weight must be finite");
+        for (const double c : m.radiation)
+            if (!std::isfinite(c))
+                throw std::invalid_argument(which + "its radiation weights must be finite");
     }
 }
 
@@ -151,15 +168,15 @@ std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, co
     return points;
 }
 
-std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity)
+std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity, int listener)
 {
     std::vector<double> h(size_t(stringModes), 0.0);
     for (const auto& mode : body.modes)
-        h.push_back(mode.radiation * std::sqrt(linearDensity / mode.massKg));
+        h.push_back(mode.radiation.at(size_t(listener)) * std::sqrt(linearDensity / mode.massKg));
     return h;
 }
 
-BodyResponse bodyResponse(const ModalBody& body, double frequencyHz)
+BodyResponse bodyResponse(const ModalBody& body, double frequencyHz, int listener)
 {
     const double w = 2.0 * std::numbers::pi * frequencyHz;
     std::complex<double> Y = 0.0, P = 0.0;
@@ -170,7 +187,7 @@ BodyResponse bodyResponse(const ModalBody& body, double frequencyHz)
         const std::complex<double> receptance =
             1.0 / (mode.massKg * std::complex<double>(wk * wk - w * w, 2.0 * mode.sigma * w));
         Y += std::complex<double>(0.0, w) * receptance;
-        P += mode.radiation * std::complex<double>(0.0, w) * receptance;
+        P += mode.radiation.at(size_t(listener)) * std::complex<double>(0.0, w) * receptance;
     }
     return {Y.real(), Y.imag(), P.real(), P.imag()};
 }

@@ -5,8 +5,9 @@
 // Mode k moves the bridge by z_k (m): the bridge's displacement is w = sum_k z_k, and a force F on
 // the bridge drives each mode as m_k (z_k'' + 2 sigma_k z_k' + omega_k^2 z_k) = F, m_k its mass at
 // the bridge (kg). So the bridge's mobility is Y(w) = sum_k i w / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)).
-// The sound radiated to the listener is p = sum_k c_k z_k' (Pa): c_k the mode's radiation weight, the
-// pressure its bridge velocity makes there. A plate above its coincidence frequency radiates as its
+// The sound radiated to a listener is p = sum_k c_k z_k' (Pa): c_k the mode's radiation weight there,
+// the pressure its bridge velocity makes at that listener (a body has up to three listeners, the
+// first where its response was measured). A plate above its coincidence frequency radiates as its
 // surface moves, p ~ rho_air c_air v; below it the weights carry the radiation's efficiency. Read from
 // the accelerations instead, a truncated modal sum passes the bridge force's whole spectrum to the
 // listener however far above its last mode (each mode's instant response F / m_k); from the
@@ -22,25 +23,35 @@
 
 #include "physics/ModalSolver.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
 namespace jawari
 {
 
+inline constexpr int kMostListeners = 3;
+
 struct BodyMode
 {
     double frequencyHz = 0.0;
-    double sigma = 0.0;      // 1/s
-    double massKg = 0.0;     // m_k at the bridge
-    double radiation = 0.0;  // c_k, Pa per m/s of the mode's velocity at the bridge
+    double sigma = 0.0;   // 1/s
+    double massKg = 0.0;  // m_k at the bridge
+    // c_k at each of the body's listeners, Pa per m/s of the mode's velocity at the bridge.
+    std::array<double, kMostListeners> radiation{};
 };
 
 struct ModalBody
 {
     std::string name;  // a factory body's name, or empty
+    // Where the radiated sound is heard: one name per listener (the first: where the body's response
+    // was measured). The modes' radiation weights beyond these are 0.
+    std::vector<std::string> listeners{"centre"};
     std::vector<BodyMode> modes;
 };
+
+// The index of the body's listener called `name`, or -1.
+int listenerIndex(const ModalBody& body, const std::string& name);
 
 // What the body adds to a solver: its modes after the strings', and which contact points stand on it.
 struct BodyJoin
@@ -71,9 +82,9 @@ std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, co
 // pluck's map leaves the body at rest. The transform path is refused (the body couples the points).
 ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& join);
 
-// The pickup weights (M + K values) that read sum_k c_k z_k: the radiated pressure is their time
-// derivative (the centred difference over two steps).
-std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity);
+// The pickup weights (M + K values) that read sum_k c_k z_k at the listener: the radiated pressure
+// there is their time derivative (the centred difference over two steps).
+std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity, int listener = 0);
 
 // The bridge's mobility Y(f) and the radiated pressure per newton on the bridge, P(f) = sum_k c_k i w
 // / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)), at frequency f (Hz): the body's own responses.
@@ -82,10 +93,10 @@ struct BodyResponse
     double mobilityReal = 0.0, mobilityImag = 0.0;  // s/kg
     double pressureReal = 0.0, pressureImag = 0.0;  // Pa/N
 };
-BodyResponse bodyResponse(const ModalBody& body, double frequencyHz);
+BodyResponse bodyResponse(const ModalBody& body, double frequencyHz, int listener = 0);
 
-// Checks a body's modes (finite, frequency > 0, sigma >= 0, mass > 0); throws std::invalid_argument
-// naming the mode and the value.
+// Checks a body's modes (finite, frequency > 0, sigma >= 0, mass > 0) and listeners (1 to
+// kMostListeners, named, no name twice); throws std::invalid_argument naming the mode and the value.
 void validateBody(const ModalBody& body);
 
 }  // namespace jawari

@@ -34,27 +34,25 @@ inline double horizontalSum(const double* partial)
     return sum8(t);
 }
 
-// q~ = a q - e qPrev written over qPrev; returns h . q~, and h2 . q~ into `second` when h2 is
-// given (a second pickup). The pickups read the first Mh modes only (their weights are zero beyond:
-// ModalState::pickupCount(); Mh a multiple of kBlock, or M). The single-step path; contact
-// projections follow, after any explicit force has joined q~.
-template <bool Second>
-inline double predictWith(const double* __restrict a, const double* __restrict e, const double* __restrict current,
-                          double* __restrict previous, const double* __restrict h, const double* __restrict h2, int M,
-                          int Mh, double& second)
+// q~ = a q - e qPrev written over qPrev, and N readings of it in the same pass: out[r] = h[r] . q~
+// (the pickups, a body's bridge and listeners). The readings take the first Mh modes only (their
+// weights are zero beyond: ModalState::pickupCount(); Mh a multiple of kBlock, or M). The
+// single-step path; contact projections follow, after any explicit force has joined q~.
+template <int N>
+inline void predictWith(const double* __restrict a, const double* __restrict e, const double* __restrict current,
+                        double* __restrict previous, const double* const* h, int M, int Mh, double* out)
 {
-    alignas(64) double ph[kBlock] = {}, ph2[kBlock] = {};
+    alignas(64) double ph[N][kBlock] = {};
     int p = 0;
     for (; p + kBlock <= Mh; p += kBlock)
     {
-#pragma omp simd aligned(ph, ph2 : 64)
+#pragma omp simd
         for (int k = 0; k < kBlock; ++k)
         {
             const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
             previous[p + k] = next;
-            ph[k] += h[p + k] * next;
-            if constexpr (Second)
-                ph2[k] += h2[p + k] * next;
+            for (int r = 0; r < N; ++r)
+                ph[r][k] += h[r][p + k] * next;
         }
     }
     for (; p + kBlock <= M; p += kBlock)
@@ -63,25 +61,43 @@ inline double predictWith(const double* __restrict a, const double* __restrict e
         for (int k = 0; k < kBlock; ++k)
             previous[p + k] = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
     }
-    double y = horizontalSum(ph);
-    double y2 = Second ? horizontalSum(ph2) : 0.0;
+    double y[N];
+    for (int r = 0; r < N; ++r)
+        y[r] = horizontalSum(ph[r]);
     for (; p < M; ++p)
     {
         const double next = a[p] * current[p] - e[p] * previous[p];
         previous[p] = next;
-        y += h[p] * next;
-        if constexpr (Second)
-            y2 += h2[p] * next;
+        for (int r = 0; r < N; ++r)
+            y[r] += h[r][p] * next;
     }
-    second = y2;
-    return y;
+    for (int r = 0; r < N; ++r)
+        out[r] = y[r];
 }
 
+// predictWith over `count` readings (1 to 4).
+inline void predictReadings(const double* a, const double* e, const double* current, double* previous,
+                            const double* const* h, int count, int M, int Mh, double* out)
+{
+    switch (count)
+    {
+        case 1: predictWith<1>(a, e, current, previous, h, M, Mh, out); break;
+        case 2: predictWith<2>(a, e, current, previous, h, M, Mh, out); break;
+        case 3: predictWith<3>(a, e, current, previous, h, M, Mh, out); break;
+        default: predictWith<4>(a, e, current, previous, h, M, Mh, out); break;
+    }
+}
+
+// The same with a pickup h and a second one h2 (or none, null): returns h . q~, and h2 . q~ (or 0)
+// into `second`.
 inline double predict(const double* a, const double* e, const double* current, double* previous, const double* h,
                       const double* h2, int M, int Mh, double& second)
 {
-    return h2 != nullptr ? predictWith<true>(a, e, current, previous, h, h2, M, Mh, second)
-                         : predictWith<false>(a, e, current, previous, h, h2, M, Mh, second);
+    const double* weights[2] = {h, h2};
+    double out[2] = {0.0, 0.0};
+    predictReadings(a, e, current, previous, weights, h2 != nullptr ? 2 : 1, M, Mh, out);
+    second = out[1];
+    return out[0];
 }
 
 // predict() and the contact projections of up to kMaxFused points in the same pass: for k < P,

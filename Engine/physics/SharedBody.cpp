@@ -13,7 +13,7 @@ namespace jawari
 {
 
 SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
-    : dt_(timeStep)
+    : dt_(timeStep), listeners_(int(body.listeners.size()))
 {
     validateBody(body);
     if (!(std::isfinite(coupling) && coupling >= 0.0) || !(timeStep > 0.0))
@@ -26,10 +26,13 @@ SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
         e_.push_back(c.e);
         push_.push_back(dt_ * dt_ * coupling / mode.massKg);
         kappa_.push_back(coupling);
-        weights_.push_back(mode.radiation);
         kinetic_.push_back(0.5 * mode.massKg * c.kineticWeight / (dt_ * dt_));
         potential_.push_back(0.5 * mode.massKg * c.potentialWeight);
-        radiationPush_ += mode.radiation * push_.back();
+        for (int l = 0; l < listeners_; ++l)
+        {
+            weights_[size_t(l)].push_back(mode.radiation[size_t(l)]);
+            radiationPush_[size_t(l)] += mode.radiation[size_t(l)] * push_.back();
+        }
         inverseMass += 1.0 / mode.massKg;
     }
     beta_ = dt_ * dt_ * coupling * coupling * inverseMass;
@@ -67,7 +70,9 @@ void SharedBody::silence()
 {
     for (auto* z : {&z_, &zPrevious_, &zPart_, &zPartPrevious_})
         std::fill(z->begin(), z->end(), 0.0);
-    force_ = bridge_ = bridgeBefore_ = radiation_ = partRadiation_ = playedForce_ = 0.0;
+    force_ = bridge_ = bridgeBefore_ = playedForce_ = 0.0;
+    radiation_.fill(0.0);
+    partRadiation_.fill(0.0);
     reach_.chooseAgain();  // the bridge's jump to rest may bring the strings' obstacles nearer
 }
 
@@ -228,22 +233,26 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
 // The copy of the modes that the strings after split drive: the same update, their force alone.
 void SharedBody::stepPart(double partForce)
 {
-    double unused = 0.0;
     const int K = static_cast<int>(zPart_.size());
-    const double radiated =
-        kernels::predict(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), weights_.data(), nullptr, K, K, unused);
+    const double* readings[kMostListeners] = {weights_[0].data(), weights_[1].data(), weights_[2].data()};
+    double radiated[kMostListeners] = {};
+    kernels::predictReadings(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), readings, listeners_, K, K,
+                             radiated);
     kernels::axpy(partForce, push_.data(), zPartPrevious_.data(), K);
     std::swap(zPart_, zPartPrevious_);
-    partRadiation_ = radiated + radiationPush_ * partForce;
+    for (int l = 0; l < listeners_; ++l)
+        partRadiation_[size_t(l)] = radiated[l] + radiationPush_[size_t(l)] * partForce;
 }
 
 void SharedBody::step(ModalSolver* const* strings, int count, int split)
 {
-    // z~ over z^{n-1}, with its bridge reading and its radiation's, in one pass.
-    double radiated = 0.0;
+    // z~ over z^{n-1}, with its bridge reading and its radiation's at each listener, in one pass.
     const int K = static_cast<int>(z_.size());
-    const double predicted = kernels::predict(a_.data(), e_.data(), z_.data(), zPrevious_.data(), kappa_.data(),
-                                              weights_.data(), K, K, radiated);
+    const double* readings[1 + kMostListeners] = {kappa_.data(), weights_[0].data(), weights_[1].data(),
+                                                  weights_[2].data()};
+    double read[1 + kMostListeners] = {};
+    kernels::predictReadings(a_.data(), e_.data(), z_.data(), zPrevious_.data(), readings, 1 + listeners_, K, K, read);
+    const double predicted = read[0];
     reach_.choose(strings, count, oneWay_, bridge_, bridgeBefore_);
     for (int i = 0; i < count; ++i)
         strings[i]->predictOnMovingBridge();
@@ -281,7 +290,8 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     std::swap(z_, zPrevious_);
     bridgeBefore_ = bridge_;
     bridge_ = predicted + beta_ * force_;
-    radiation_ = radiated + radiationPush_ * force_;
+    for (int l = 0; l < listeners_; ++l)
+        radiation_[size_t(l)] = read[1 + l] + radiationPush_[size_t(l)] * force_;
 }
 
 }  // namespace jawari

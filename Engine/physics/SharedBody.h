@@ -64,8 +64,12 @@ public:
 
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, < 0 pushing the body down)
-    double radiation() const { return radiation_; }  // RT: sum_k c_k z_k^n: its centred difference is the pressure (Pa)
-    double partRadiation() const { return partRadiation_; }  // RT: the same from the forces of the strings after split
+    // RT: sum_k c_k z_k^n at a listener of the body's (ModalBody::listeners): its centred difference is
+    // the pressure there (Pa).
+    double radiation(int listener = 0) const { return radiation_[size_t(listener)]; }
+    // RT: the same from the forces of the strings after split.
+    double partRadiation(int listener = 0) const { return partRadiation_[size_t(listener)]; }
+    int listenerCount() const { return listeners_; }
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
     int lastTrials() const { return trials_; }            // RT: its trials (ModalSolver::trialOnMovingBridge)
     bool atRest() const;                               // RT: every mode below 1e-18 m
@@ -87,17 +91,21 @@ private:
     void stepPart(double partForce);
 
     // Per mode: the exact update's a and e, dt^2 kappa / m_k, kappa (the bridge reads sum kappa z_k),
-    // c_k; z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
-    std::vector<double> a_, e_, push_, kappa_, weights_;
+    // z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
+    std::vector<double> a_, e_, push_, kappa_;
+    std::array<std::vector<double>, kMostListeners> weights_;  // c_k at each listener
+    std::array<double, kMostListeners> radiationPush_{};      // sum_k c_k dt^2 kappa / m_k at each
     std::vector<double> z_, zPrevious_;
     std::vector<double> kinetic_, potential_;  // per mode, m_k C1 / (2 dt^2) and m_k C2 / 2: its energy's weights
     BodyReach reach_;
     std::array<double, BodyReach::kMostStrings> forces_{};  // each string's force at the last solve (N)
     bool resolved_ = false;
     std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
-    double dt_ = 0.0, beta_ = 0.0, radiationPush_ = 0.0, force_ = 0.0;
-    double bridge_ = 0.0, bridgeBefore_ = 0.0, radiation_ = 0.0;  // w^n, w^{n-1}, sum c_k z_k^n
-    double partRadiation_ = 0.0, partForce_ = 0.0;  // the strings' after split_
+    double dt_ = 0.0, beta_ = 0.0, force_ = 0.0;
+    double bridge_ = 0.0, bridgeBefore_ = 0.0;             // w^n, w^{n-1}
+    std::array<double, kMostListeners> radiation_{}, partRadiation_{};  // sum c_k z_k^n per listener
+    double partForce_ = 0.0;                                // the strings' after split_
+    int listeners_ = 1;
     double playedForce_ = 0.0;                      // the strings' before split_, at the last evaluation
     double linearForce_ = 0.0, linearSlope_ = 0.0, linearAt_ = 0.0;  // the affine fit: F, dF/dW at W
     int split_ = 0, count_ = 0;

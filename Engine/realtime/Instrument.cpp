@@ -181,15 +181,21 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
         s.sounding = false;
 }
 
-// The body's radiated sound, in the centre, by the body's mix and the gain, with the sympathetic
-// strings' share of it (the pressure their forces alone make) scaled by their level; all three ramped
-// per host sample.
+// The body's radiated sound by the body's mix and the gain, with the sympathetic strings' share of
+// it (the pressure their forces alone make) scaled by their level; all three ramped per host sample.
+// The stereo width moves each channel from the centre listener (0: both hear it) to the left and
+// right ones (1: each hears its own).
 void Instrument::mixBody(int count, const MixStart& start)
 {
     const auto& c = controls_.current();
     const int os = pack_->oversampling;
     const double gainEnd = controls_.gain(), centre = std::sqrt(0.5);
     const bool taraf = sympathetic_.count() > 0;
+    const bool sides = pack_->body->listenerCount() >= 3;
+    const double width = sides ? c.stereoWidth : 0.0;
+    const auto& body = pack_->bodyBlocks;
+    const auto& part = pack_->sympatheticBlocks;
+    const size_t left = sides ? 1 : 0, right = sides ? 2 : 0;
     for (int n = 0; n < count; ++n)
     {
         const double level =
@@ -197,11 +203,16 @@ void Instrument::mixBody(int count, const MixStart& start)
         const double tarafCut = 1.0 - ramp(start.sympatheticLevel, c.sympatheticLevel, n, count);
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
-            double p = pack_->bodyBlock[size_t(k)];
+            const size_t i = size_t(k);
+            double l = (1.0 - width) * body[0][i] + width * body[left][i];
+            double r = (1.0 - width) * body[0][i] + width * body[right][i];
             if (taraf)
-                p -= tarafCut * pack_->sympatheticBlock[size_t(k)];
-            pack_->mixLeft[size_t(k)] += level * p;
-            pack_->mixRight[size_t(k)] += level * p;
+            {
+                l -= tarafCut * ((1.0 - width) * part[0][i] + width * part[left][i]);
+                r -= tarafCut * ((1.0 - width) * part[0][i] + width * part[right][i]);
+            }
+            pack_->mixLeft[i] += level * l;
+            pack_->mixRight[i] += level * r;
         }
     }
 }

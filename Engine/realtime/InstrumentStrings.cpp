@@ -28,8 +28,8 @@ void Instrument::stepStrings(Sounding& s, int samples)
 }
 
 // Every sounding string, the sympathetic strings and the body in lockstep, one internal step at a
-// time (SharedBody), on this thread; the body's radiated pressure into the pack's body block, and
-// the share of it the sympathetic strings make into theirs. A body left ringing alone steps until it
+// time (SharedBody), on this thread; the body's radiated pressure at each listener into the pack's
+// body blocks, and the share of it the sympathetic strings make into theirs. A body left ringing alone steps until it
 // and its sympathetic strings are at rest.
 void Instrument::stepOnBody(Sounding& s, int samples)
 {
@@ -37,8 +37,11 @@ void Instrument::stepOnBody(Sounding& s, int samples)
     const long steps = long(samples) * pack_->oversampling;
     if (s.count == 0 && body.atRest() && sympathetic_.atRest())
     {
-        std::fill(pack_->bodyBlock.begin(), pack_->bodyBlock.begin() + steps, 0.0);
-        std::fill(pack_->sympatheticBlock.begin(), pack_->sympatheticBlock.end(), 0.0);
+        for (int l = 0; l < body.listenerCount(); ++l)
+        {
+            std::fill(pack_->bodyBlocks[size_t(l)].begin(), pack_->bodyBlocks[size_t(l)].begin() + steps, 0.0);
+            std::fill(pack_->sympatheticBlocks[size_t(l)].begin(), pack_->sympatheticBlocks[size_t(l)].end(), 0.0);
+        }
         pack_->bodyStreamStarted = false;
         return;
     }
@@ -58,20 +61,23 @@ void Instrument::stepOnBody(Sounding& s, int samples)
     }
     if (!pack_->bodyStreamStarted)
     {
-        pack_->bodyStream.start(body.radiation());
-        pack_->sympatheticStream.start(body.partRadiation());
+        for (int l = 0; l < body.listenerCount(); ++l)
+        {
+            pack_->bodyStreams[size_t(l)].start(body.radiation(l));
+            pack_->sympatheticStreams[size_t(l)].start(body.partRadiation(l));
+        }
         pack_->bodyStreamStarted = true;
     }
     const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
     std::array<ModalSolver*, kSlots + kMaxSympatheticStrings> solvers{};
     for (long k = 0; k < steps; ++k)
-        pack_->bodyBlock[size_t(k)] = stepBodyOnce(s, k, dt, solvers.data());
+        stepBodyOnce(s, k, dt, solvers.data());
 }
 
 // One internal step k (of dt seconds) of the chunk, the strings' solvers handed to the body in
-// `solvers`: returns the radiated pressure (Pa), and writes the sympathetic strings' share of it. A
-// body that has run away, or whose played string has, is silenced with every string on it.
-double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solvers)
+// `solvers`: writes the radiated pressure at each listener (Pa) and the sympathetic strings' share
+// of it. A body that has run away, or whose played string has, is silenced with every string on it.
+void Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solvers)
 {
     auto& body = *pack_->body;
     const int taraf = sympathetic_.count();
@@ -99,18 +105,30 @@ double Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** so
         sympathetic_.voice(j).finishOnBody();  // unheard: the body carries them (the guard still runs)
         ranAway = ranAway || sympathetic_.voice(j).blowUps() != blowUps;
     }
-    double p = pack_->bodyStream.advance(body.radiation(), PickupQuantity::pressure, dt);
-    double part = taraf > 0 ? pack_->sympatheticStream.advance(body.partRadiation(), PickupQuantity::pressure, dt) : 0.0;
-    if (ranAway || !std::isfinite(p) || !std::isfinite(part))
+    bool finite = true;
+    for (int l = 0; l < body.listenerCount(); ++l)
+    {
+        const double p = pack_->bodyStreams[size_t(l)].advance(body.radiation(l), PickupQuantity::pressure, dt);
+        const double part =
+            taraf > 0 ? pack_->sympatheticStreams[size_t(l)].advance(body.partRadiation(l), PickupQuantity::pressure, dt)
+                      : 0.0;
+        pack_->bodyBlocks[size_t(l)][size_t(k)] = p;
+        if (taraf > 0)
+            pack_->sympatheticBlocks[size_t(l)][size_t(k)] = part;
+        finite = finite && std::isfinite(p) && std::isfinite(part);
+    }
+    if (ranAway || !finite)
     {
         silenceBody(s);
         for (int i = 0; i < s.count; ++i)
             s.blocks[size_t(i)][k] = 0.0;  // what they played was moved by the runaway
-        p = part = 0.0;
+        for (int l = 0; l < body.listenerCount(); ++l)
+        {
+            pack_->bodyBlocks[size_t(l)][size_t(k)] = 0.0;
+            if (taraf > 0)
+                pack_->sympatheticBlocks[size_t(l)][size_t(k)] = 0.0;
+        }
     }
-    if (taraf > 0)
-        pack_->sympatheticBlock[size_t(k)] = part;
-    return p;
 }
 
 // The body and every string on it back at rest, the sympathetic strings' ceilings kept. A string
@@ -130,8 +148,8 @@ void Instrument::silenceBody(Sounding& s)
         v.allowEnergy(ceiling);
         v.holdGuard(held);
     }
-    pack_->bodyStream = {};
-    pack_->sympatheticStream = {};
+    pack_->bodyStreams = {};
+    pack_->sympatheticStreams = {};
 }
 
 // The worker takes the last strings and steps them itself, from the front of its share (a string it

@@ -126,7 +126,8 @@ void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality)
     // The pitch it sounds on its bridge's spring (SpringLoadedModes.h), which the tunings aim at.
     pack.sympatheticFundamentalHz = springLoadedFrequencyHz(solverConfig, 0);
     pack.sympatheticLoading = springLoading(config);
-    pack.sympatheticBlock.assign(size_t(kChunkSamples) * size_t(pack.oversampling), 0.0);
+    for (auto& block : pack.sympatheticBlocks)
+        block.assign(size_t(kChunkSamples) * size_t(pack.oversampling), 0.0);
 }
 
 void SympatheticStrings::install(VoicePack& pack, bool carry)

@@ -35,14 +35,14 @@ void keepReachable(std::vector<ContactPoint>& contacts, std::vector<char>& onBod
     onBody.resize(kept);
 }
 
-// The voice's body after its string's modes (withBody); the pressure pickup reads it, one listener.
+// The voice's body after its string's modes (withBody); the pressure pickup reads it at its listener.
 void joinBody(ModalSolverConfig& c, const VoiceConfig& config, const std::vector<char>& onBody)
 {
     const int stringModes = c.modes.size();
     c = withBody(c, {&*config.body, onBody, config.bodyCoupling, true});
     if (config.quantity == PickupQuantity::pressure)
     {
-        c.pickupWeights = radiationWeights(*config.body, stringModes, config.string.linearDensity);
+        c.pickupWeights = radiationWeights(*config.body, stringModes, config.string.linearDensity, config.listener);
         c.secondPickupWeights.clear();
     }
 }

@@ -69,8 +69,9 @@ struct VoiceConfig
     std::function<double(double)> reach;
     // The body under the obstacles flagged in obstacleOnBody (one flag per obstacle; empty: every
     // obstacle), its modes after the string's (ModalBody.h), coupled by bodyCoupling. The "pressure"
-    // quantity reads its radiated sound. Empty: rigid supports.
+    // quantity reads its radiated sound at `listener` (ModalBody::listeners). Empty: rigid supports.
     std::optional<ModalBody> body;
+    int listener = 0;
     std::vector<char> obstacleOnBody;
     double bodyCoupling = 1.0;
     // Its obstacles stand on a body stepped beside it (SharedBody, the instrument's): the contacts

@@ -314,7 +314,8 @@ std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
         pack->body = std::make_unique<SharedBody>(*body, 1.0, solverConfig.timeStep);
         pack->body->check(pack->voices.front()->solver());
         pack->body->setOneWay(structure.bodyOneWay);
-        pack->bodyBlock.assign(size_t(kChunkSamples) * size_t(pack->oversampling), 0.0);
+        for (auto& block : pack->bodyBlocks)
+            block.assign(size_t(kChunkSamples) * size_t(pack->oversampling), 0.0);
         addSympatheticStrings(*pack, quality);
     }
     return pack;
