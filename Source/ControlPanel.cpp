@@ -69,7 +69,9 @@ const ControlSpec kControls[] = {
     {"Output", ids::bendRange, "Bend range", "How far the pitch wheel bends the strings, each way."},
     {"Output", ids::stereoWidth, "Width",
      "How far the strings spread across the stereo field by pitch (100 %: from hard left at C3 to hard right at "
-     "C7), and how much of the right channel a second pickup reads, 5 % of the string further in: 0 is mono."},
+     "C7), and how much of the right channel a second pickup reads, 5 % of the string further in: 0 is mono. "
+     "Through a body, also how far each channel hears the body from 30 degrees to its side rather than from "
+     "in front."},
     {"MIDI", ids::mpe, "MPE",
      "MPE (the lower zone): a note on its own channel 2..16 bends, presses (its bridge up to 0.5 mm further "
      "in: more buzz) and slides (its damping) by itself; channel 1 moves every note."},

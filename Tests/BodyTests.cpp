@@ -327,14 +327,6 @@ TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]"
     CHECK(strung.body->strings[0].obstacles.size() == 1);
     CHECK(strung.body->strings[0].excitation.amplitude == 0.0);  // at rest without an excitation
     CHECK(strung.body->strings[1].excitation.amplitude == 0.001);
-    const auto left = parseScene(head + R"("body": {"model": "tanpura"}, "pickup": {"quantity": "pressure",
-        "listener": "left"}})");
-    CHECK(pickupListener(left) == 1);
-    const auto heard = parseScene(head + R"("body": {"listeners": ["front", "side"], "modes": [{"frequency": 200,
-        "mass": 0.2, "radiation": [0.01, -0.02]}]}, "pickup": {"quantity": "pressure", "listener": "side"}})");
-    CHECK(heard.body->body.listeners == std::vector<std::string>{"front", "side"});
-    CHECK(heard.body->body.modes[0].radiation[1] == -0.02);
-    CHECK(pickupListener(heard) == 1);
 
     auto refused = [&](const std::string& tail, const std::string& message) {
         INFO(tail);
@@ -352,6 +344,28 @@ TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]"
     refused(R"("body": {"model": "tanpura", "strings": [{"strings": {}}]}})", "body.strings[0].strings: unknown field");
     refused(R"("body": {"model": "tanpura", "strings": [{}]}, "simulation": {"method": "penalty"}})",
             "simulation.method: other strings on the body take the default method");
+    refused(R"("body": {"model": "tanpura"}, "pickup": {"quantity": "bridge_force"},
+        "simulation": {"method": "realtime"}})", "pickup.quantity: \"bridge_force\" is read by the reference only");
+}
+
+TEST_CASE("A scene's body names its listeners and the pressure pickup one of them, bad input named",
+          "[body][scene]")
+{
+    const std::string head = R"({"format": "jawari-scene/1",
+        "obstacles": [{"type": "point", "position": 0.006, "stiffness": 1e13, "exponent": 1.3}],)";
+    const auto left = parseScene(head + R"("body": {"model": "tanpura"}, "pickup": {"quantity": "pressure",
+        "listener": "left"}})");
+    CHECK(pickupListener(left) == 1);
+    const auto heard = parseScene(head + R"("body": {"listeners": ["front", "side"], "modes": [{"frequency": 200,
+        "mass": 0.2, "radiation": [0.01, -0.02]}]}, "pickup": {"quantity": "pressure", "listener": "side"}})");
+    CHECK(heard.body->body.listeners == std::vector<std::string>{"front", "side"});
+    CHECK(heard.body->body.modes[0].radiation[1] == -0.02);
+    CHECK(pickupListener(heard) == 1);
+
+    auto refused = [&](const std::string& tail, const std::string& message) {
+        INFO(tail);
+        CHECK_THROWS_WITH(parseScene(head + tail), Catch::Contains(message));
+    };
     refused(R"("body": {"model": "tanpura"}, "pickup": {"quantity": "pressure", "listener": "behind"}})",
             "pickup.listener: the body has no listener 'behind' (it has 'centre', 'left', 'right')");
     refused(R"("body": {"model": "tanpura"}, "pickup": {"listener": "left"}})",
@@ -363,9 +377,8 @@ TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]"
     refused(R"("body": {"listeners": ["a", "a"], "modes": [{"frequency": 200, "mass": 0.2}]}})",
             "body.listeners[1]: names a listener twice ('a')");
     refused(R"("body": {"listeners": ["a", "b", "c", "d"], "modes": [{"frequency": 200, "mass": 0.2}]}})",
-            "body.listeners: must be an array of 1 to 3 names");
-    refused(R"("body": {"model": "tanpura"}, "pickup": {"quantity": "bridge_force"},
-        "simulation": {"method": "realtime"}})", "pickup.quantity: \"bridge_force\" is read by the reference only");
+            "body.listeners: must be an array of 1 to 3 names, got 4");
+    refused(R"("body": {"model": "tanpura", "listeners": ["a"]}})", "body.listeners: go with \"modes\"");
 }
 
 TEST_CASE("The voice with a lossless body conserves its discrete energy to 1e-9 over 1e5 steps", "[body][energy]")

@@ -145,19 +145,29 @@ TEST_CASE("Through the body the stereo width spreads its sound from the centre l
         }
         return xy / std::sqrt(xx * yy);
     };
+    // The treble's level at a channel against the centre's (dB): the mix between two listeners keeps
+    // each mode's power, where the centre and a side no longer correlate as where they do.
+    auto treble = [](const std::vector<double>& y, const std::vector<double>& centre) {
+        return 20.0 * std::log10(rms(zeroPhaseBand(y, 48000.0, 2000.0, 8000.0))
+                                 / rms(zeroPhaseBand(centre, 48000.0, 2000.0, 8000.0)));
+    };
     const auto mono = play(0.0);
     CHECK(mono.first == mono.second);
-    const auto wide = play(1.0);
+    const auto wide = play(1.0), between = play(0.6);
     const double low = correlation(wide.first, wide.second, 80.0, 250.0);
     const double high = correlation(wide.first, wide.second, 2000.0, 8000.0);
     const double left = 20.0 * std::log10(rms(wide.first) / rms(mono.first));
     const double right = 20.0 * std::log10(rms(wide.second) / rms(mono.first));
+    const double trebleLeft = treble(between.first, mono.first), trebleRight = treble(between.second, mono.first);
     INFO("left-right correlation 80-250 Hz " << low << ", 2-8 kHz " << high << "; left " << left << " dB, right "
-                                             << right << " dB against the centre");
+                                             << right << " dB against the centre; at width 0.6 the 2-8 kHz band "
+                                             << trebleLeft << " dB and " << trebleRight << " dB");
     CHECK(low > 0.8);
     CHECK(std::abs(high) < 0.5);
     CHECK(std::abs(left) < 3.0);
     CHECK(std::abs(right) < 3.0);
+    CHECK(std::abs(trebleLeft) < 1.5);
+    CHECK(std::abs(trebleRight) < 1.5);
 }
 
 TEST_CASE("Through the body a note feels another: on rigid supports it does not, nor with the body driven one "

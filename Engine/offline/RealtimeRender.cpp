@@ -146,12 +146,11 @@ struct VoicesOnBody
     std::vector<char> plucked;  // per voice: plucked from a shape (the others start at rest)
     std::unique_ptr<SharedBody> body;
     int split = 0;
-    int listener = 0;  // where the pressure is heard
 
     // One host sample's internal steps of every voice and the body, as the instrument steps them
     // (Instrument::stepBodyOnce): into `internal`, the played string's pickup, or the body's
-    // radiated pressure through `radiated` when given.
-    void stepHostSample(double* internal, VoiceMotion::PickupStream* radiated)
+    // radiated pressure at its listener when `pressure`.
+    void stepHostSample(double* internal, bool pressure)
     {
         // A string never plucked can hold no more than the plucked ones have had between them (the
         // instrument's ceiling for its sympathetic strings).
@@ -161,7 +160,6 @@ struct VoicesOnBody
         for (size_t i = 0; i < voices.size(); ++i)
             if (!plucked[i])
                 voices[i]->allowEnergy(supply);
-        const double dt = voices[0]->solver().timeStep();
         for (int k = 0; k < voices[0]->oversampling(); ++k)
         {
             for (auto& voice : voices)
@@ -170,8 +168,8 @@ struct VoicesOnBody
             internal[k] = voices[0]->finishOnBody();
             for (size_t i = 1; i < voices.size(); ++i)
                 voices[i]->finishOnBody();
-            if (radiated != nullptr)
-                internal[k] = radiated->advance(body->radiation(listener), PickupQuantity::pressure, dt);
+            if (pressure)
+                internal[k] = body->pressure(0);
         }
     }
 };
@@ -206,7 +204,7 @@ VoicesOnBody voicesOnBody(const Scene& scene)
         return SharedBody::standsOnSprings(voice->solver());
     });
     v.split = othersLinear ? 1 : static_cast<int>(v.voices.size());
-    v.listener = pickupListener(scene);
+    v.body->listenAt(pickupListener(scene));
     for (size_t i = 0; i < v.voices.size(); ++i)
     {
         auto& solver = v.voices[i]->solver();
@@ -240,13 +238,11 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
     const size_t latency = static_cast<size_t>(decimator.latencyHostSamples());
     std::vector<double> raw(count + latency);
     std::vector<double> internal(static_cast<size_t>(os));
-    VoiceMotion::PickupStream radiated;
-    radiated.start(v.body->radiation(v.listener));
     ScopedFlushDenormals noDenormals;
     const double start = threadCpuSeconds();
     for (size_t m = 0; m < raw.size(); ++m)
     {
-        v.stepHostSample(internal.data(), pressure ? &radiated : nullptr);
+        v.stepHostSample(internal.data(), pressure);
         if (m == 0)
             decimator.prime(internal[0]);  // held before t = 0, as the reference's start
         raw[m] = decimator.process(internal.data());

@@ -101,7 +101,8 @@ struct SceneBody
 std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body);
 
 struct Scene;
-// The index of the body's listener that the scene's "pressure" pickup hears (0 without a name).
+// The index of the body's listener that the scene's "pressure" pickup hears (0 without a name; -1
+// for a name the body lacks, which validation refuses).
 int pickupListener(const Scene& scene);
 
 struct Scene

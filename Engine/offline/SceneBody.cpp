@@ -14,7 +14,7 @@ int pickupListener(const Scene& scene)
 {
     if (!scene.body || scene.pickup.listener.empty())
         return 0;
-    return std::max(0, listenerIndex(scene.body->body, scene.pickup.listener));
+    return listenerIndex(scene.body->body, scene.pickup.listener);  // -1 for a name a valid scene has not
 }
 
 std::vector<char> obstaclesOnBody(size_t obstacleCount, const std::optional<SceneBody>& body)
@@ -80,8 +80,8 @@ std::vector<std::string> readListeners(ObjectReader& r)
         return {"centre"};
     const json& names = r.raw("listeners");
     if (!names.is_array() || names.empty() || names.size() > size_t(kMostListeners))
-        throw SceneError(r.at("listeners"), "must be an array of 1 to " + std::to_string(kMostListeners)
-                                                + " names, got " + typeName(names));
+        throw SceneError(r.at("listeners"), "must be an array of 1 to " + std::to_string(kMostListeners) + " names, got "
+                                                + (names.is_array() ? std::to_string(names.size()) : typeName(names)));
     std::vector<std::string> out;
     for (size_t l = 0; l < names.size(); ++l)
     {
@@ -183,6 +183,8 @@ SceneBody readBody(const json& value, const Scene& scene)
     const bool named = r.has("model"), listed = r.has("modes");
     if (named == listed)
         throw SceneError("body", "needs either \"model\" (a factory body) or \"modes\" (its modes listed), not both");
+    if (named && r.has("listeners"))
+        throw SceneError(r.at("listeners"), "go with \"modes\": a factory body has its own");
     if (named)
     {
         std::vector<const char*> names = factoryBodyNames();

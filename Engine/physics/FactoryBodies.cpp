@@ -1,7 +1,6 @@
 #include "physics/FactoryBodies.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -136,7 +135,11 @@ void fitBands(ModalBody& body, const PlateBodyRecipe& r, double referencePower, 
 // (centre to a side: the sides' sine apart; left to right: twice that), the part a side shares with
 // the centre plus a part of its own, at an angle drawn by a hash of k (a low-discrepancy sequence
 // would drift with the centre's signs over a band's run of modes, and correlate them).
-std::array<double, 2> sideWeights(int k, double centre, double f, double radius, double angleDegrees)
+struct SideWeights
+{
+    double left = 0.0, right = 0.0;
+};
+SideWeights sideWeights(int k, double centre, double f, double radius, double angleDegrees)
 {
     const double u = std::sin(angleDegrees * std::numbers::pi / 180.0);
     const double r1 = directionCorrelation(f, radius, u), r2 = directionCorrelation(f, radius, 2.0 * u);
@@ -146,12 +149,47 @@ std::array<double, 2> sideWeights(int k, double centre, double f, double radius,
     const double even = std::sqrt(std::max(0.0, 0.5 * (own + shared))), odd = std::sqrt(std::max(0.0, 0.5 * (own - shared)));
     return {r1 * centre + even * n1 + odd * n2, r1 * centre + even * n1 - odd * n2};
 }
+
+// BodyMode::correlation: per mode, the correlation of each listener's weights with the first's over
+// the modes within a sixth of an octave, each weighted by its share of the response's power at a
+// listener, c^2 / (m^2 sigma) (its resonance's peak c / (2 m sigma), its width sigma).
+void measureCorrelations(ModalBody& body)
+{
+    for (auto& mode : body.modes)
+        for (size_t l = 1; l < body.listeners.size(); ++l)
+        {
+            double cross = 0.0, first = 0.0, other = 0.0;
+            for (const auto& near : body.modes)
+                if (std::abs(std::log2(near.frequencyHz / mode.frequencyHz)) <= 1.0 / 6.0)
+                {
+                    const double w = 1.0 / (near.massKg * near.massKg * std::max(near.sigma, 1e-9));
+                    cross += w * near.radiation[0] * near.radiation[l];
+                    first += w * near.radiation[0] * near.radiation[0];
+                    other += w * near.radiation[l] * near.radiation[l];
+                }
+            mode.correlation[l] = std::clamp(cross / std::sqrt(first * other), -1.0, 1.0);
+        }
+}
+
+// J1(x) by Bessel's integral, (1 / 2 pi) times the integral over a period of cos(t - x sin t): the
+// trapezoid rule on a periodic integrand converges geometrically once the points outnumber |x|.
+double besselJ1(double x)
+{
+    const int n = 64 + 2 * static_cast<int>(std::ceil(std::abs(x)));
+    double sum = 0.0;
+    for (int j = 0; j < n; ++j)
+    {
+        const double t = 2.0 * std::numbers::pi * j / n;
+        sum += std::cos(t - x * std::sin(t));
+    }
+    return sum / n;
+}
 }  // namespace
 
 double directionCorrelation(double frequencyHz, double radiusMetres, double sineApart)
 {
-    const double x = 2.0 * std::numbers::pi * frequencyHz * radiusMetres * sineApart / kSpeedOfSound;
-    return x < 1e-8 ? 1.0 : 2.0 * std::cyl_bessel_j(1.0, x) / x;
+    const double x = std::abs(2.0 * std::numbers::pi * frequencyHz * radiusMetres * sineApart / kSpeedOfSound);
+    return x < 1e-8 ? 1.0 : 2.0 * besselJ1(x) / x;
 }
 
 std::vector<double> bodyBandLevels(const ModalBody& body, const std::vector<BandLevel>& bands, int referenceBand,
@@ -183,13 +221,14 @@ ModalBody plateBody(const PlateBodyRecipe& r)
         const double f = frequencies[k];
         const auto sides = sideWeights(int(k), sign, f, radius, r.sideAngleDegrees);
         body.modes.push_back({f, std::numbers::pi * f * r.lossFactor, plateMass / s,
-                              {sign / std::sqrt(s), sides[0] / std::sqrt(s), sides[1] / std::sqrt(s)}});
+                              {sign / std::sqrt(s), sides.left / std::sqrt(s), sides.right / std::sqrt(s)}});
     }
     // The reference band's level: the infinite plate's |p / F| below coincidence.
     const double referencePower =
         std::pow(kAirDensity / (2.0 * std::numbers::sqrt2 * std::numbers::pi * r.listenerMetres * surfaceDensity), 2.0);
     for (int listener = 0; listener < int(body.listeners.size()); ++listener)
         fitBands(body, r, referencePower, listener);
+    measureCorrelations(body);
     return body;
 }
 

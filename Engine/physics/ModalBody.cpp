@@ -38,9 +38,17 @@ void validateBody(const ModalBody& body)
             throw std::invalid_argument(which + "its damping must be finite and >= 0 /s");
         if (!(std::isfinite(m.massKg) && m.massKg > 0.0))
             throw std::invalid_argument(which + "its mass must be finite and > 0 kg");
-        for (const double c : m.radiation)
-            if (!std::isfinite(c))
+        for (size_t l = 0; l < m.radiation.size(); ++l)
+        {
+            if (!std::isfinite(m.radiation[l]))
                 throw std::invalid_argument(which + "its radiation weights must be finite");
+            if (l >= names.size() && m.radiation[l] != 0.0)
+                throw std::invalid_argument(which + "a radiation weight for listener " + std::to_string(l)
+                                            + ", which the body does not have");
+        }
+        for (const double r : m.correlation)
+            if (!(r >= -1.0 && r <= 1.0))
+                throw std::invalid_argument(which + "its listeners' correlations must be within [-1, 1]");
     }
 }
 
@@ -170,6 +178,9 @@ std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, co
 
 std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity, int listener)
 {
+    if (listener < 0 || size_t(listener) >= body.listeners.size())
+        throw std::invalid_argument("listener " + std::to_string(listener) + ": the body has "
+                                    + std::to_string(body.listeners.size()) + " listeners");
     std::vector<double> h(size_t(stringModes), 0.0);
     for (const auto& mode : body.modes)
         h.push_back(mode.radiation.at(size_t(listener)) * std::sqrt(linearDensity / mode.massKg));

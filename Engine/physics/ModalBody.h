@@ -39,6 +39,10 @@ struct BodyMode
     double massKg = 0.0;  // m_k at the bridge
     // c_k at each of the body's listeners, Pa per m/s of the mode's velocity at the bridge.
     std::array<double, kMostListeners> radiation{};
+    // How alike the weights at each listener are to the first's over the modes near this one's
+    // frequency (each mode weighted by its share of the response's power): a mix of the first and
+    // another listener divides by the mix's power there (SharedBody::listenBetween). 1: alike.
+    std::array<double, kMostListeners> correlation{1.0, 1.0, 1.0};
 };
 
 struct ModalBody

@@ -34,11 +34,12 @@ inline double horizontalSum(const double* partial)
     return sum8(t);
 }
 
-// q~ = a q - e qPrev written over qPrev, and N readings of it in the same pass: out[r] = h[r] . q~
-// (the pickups, a body's bridge and listeners). The readings take the first Mh modes only (their
-// weights are zero beyond: ModalState::pickupCount(); Mh a multiple of kBlock, or M). The
-// single-step path; contact projections follow, after any explicit force has joined q~.
-template <int N>
+// q~ = a q - e qPrev written over qPrev, and N readings in the same pass: the first D of q~,
+// out[r] = h[r] . q~ (the pickups, a body's bridge), the others of its change over two steps,
+// out[r] = h[r] . (q~ - qPrev) (a body's radiated sound). The readings take the first Mh modes
+// only (their weights are zero beyond: ModalState::pickupCount(); Mh a multiple of kBlock, or M).
+// The single-step path; contact projections follow, after any explicit force has joined q~.
+template <int N, int D = N>
 inline void predictWith(const double* __restrict a, const double* __restrict e, const double* __restrict current,
                         double* __restrict previous, const double* const* h, int M, int Mh, double* out)
 {
@@ -49,10 +50,11 @@ inline void predictWith(const double* __restrict a, const double* __restrict e, 
 #pragma omp simd
         for (int k = 0; k < kBlock; ++k)
         {
-            const double next = a[p + k] * current[p + k] - e[p + k] * previous[p + k];
+            const double old = previous[p + k];
+            const double next = a[p + k] * current[p + k] - e[p + k] * old;
             previous[p + k] = next;
             for (int r = 0; r < N; ++r)
-                ph[r][k] += h[r][p + k] * next;
+                ph[r][k] += h[r][p + k] * (r < D ? next : next - old);
         }
     }
     for (; p + kBlock <= M; p += kBlock)
@@ -66,26 +68,14 @@ inline void predictWith(const double* __restrict a, const double* __restrict e, 
         y[r] = horizontalSum(ph[r]);
     for (; p < M; ++p)
     {
-        const double next = a[p] * current[p] - e[p] * previous[p];
+        const double old = previous[p];
+        const double next = a[p] * current[p] - e[p] * old;
         previous[p] = next;
         for (int r = 0; r < N; ++r)
-            y[r] += h[r][p] * next;
+            y[r] += h[r][p] * (r < D ? next : next - old);
     }
     for (int r = 0; r < N; ++r)
         out[r] = y[r];
-}
-
-// predictWith over `count` readings (1 to 4).
-inline void predictReadings(const double* a, const double* e, const double* current, double* previous,
-                            const double* const* h, int count, int M, int Mh, double* out)
-{
-    switch (count)
-    {
-        case 1: predictWith<1>(a, e, current, previous, h, M, Mh, out); break;
-        case 2: predictWith<2>(a, e, current, previous, h, M, Mh, out); break;
-        case 3: predictWith<3>(a, e, current, previous, h, M, Mh, out); break;
-        default: predictWith<4>(a, e, current, previous, h, M, Mh, out); break;
-    }
 }
 
 // The same with a pickup h and a second one h2 (or none, null): returns h . q~, and h2 . q~ (or 0)
@@ -95,7 +85,10 @@ inline double predict(const double* a, const double* e, const double* current, d
 {
     const double* weights[2] = {h, h2};
     double out[2] = {0.0, 0.0};
-    predictReadings(a, e, current, previous, weights, h2 != nullptr ? 2 : 1, M, Mh, out);
+    if (h2 != nullptr)
+        predictWith<2>(a, e, current, previous, weights, M, Mh, out);
+    else
+        predictWith<1>(a, e, current, previous, weights, M, Mh, out);
     second = out[1];
     return out[0];
 }

@@ -29,12 +29,13 @@ SharedBody::SharedBody(const ModalBody& body, double coupling, double timeStep)
         kinetic_.push_back(0.5 * mode.massKg * c.kineticWeight / (dt_ * dt_));
         potential_.push_back(0.5 * mode.massKg * c.potentialWeight);
         for (int l = 0; l < listeners_; ++l)
-        {
             weights_[size_t(l)].push_back(mode.radiation[size_t(l)]);
-            radiationPush_[size_t(l)] += mode.radiation[size_t(l)] * push_.back();
-        }
+        sideCorrelation_[0].push_back(mode.correlation[1]);
+        sideCorrelation_[1].push_back(mode.correlation[2]);
         inverseMass += 1.0 / mode.massKg;
     }
+    heard_ = {weights_[0], weights_[0]};
+    listenAt(0);
     beta_ = dt_ * dt_ * coupling * coupling * inverseMass;
     z_.assign(body.modes.size(), 0.0);
     zPrevious_ = zPart_ = zPartPrevious_ = z_;
@@ -71,8 +72,8 @@ void SharedBody::silence()
     for (auto* z : {&z_, &zPrevious_, &zPart_, &zPartPrevious_})
         std::fill(z->begin(), z->end(), 0.0);
     force_ = bridge_ = bridgeBefore_ = playedForce_ = 0.0;
-    radiation_.fill(0.0);
-    partRadiation_.fill(0.0);
+    pressure_.fill(0.0);
+    partPressure_.fill(0.0);
     reach_.chooseAgain();  // the bridge's jump to rest may bring the strings' obstacles nearer
 }
 
@@ -234,24 +235,74 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
 void SharedBody::stepPart(double partForce)
 {
     const int K = static_cast<int>(zPart_.size());
-    const double* readings[kMostListeners] = {weights_[0].data(), weights_[1].data(), weights_[2].data()};
-    double radiated[kMostListeners] = {};
-    kernels::predictReadings(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), readings, listeners_, K, K,
-                             radiated);
+    const double* readings[2] = {heard_[0].data(), heard_[1].data()};
+    double moved[2] = {};  // sum_k g_k (z~_k - z_k^{n-1}) per channel
+    if (channels_ == 1)
+        kernels::predictWith<1, 0>(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), readings, K, K, moved);
+    else
+        kernels::predictWith<2, 0>(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), readings, K, K, moved);
     kernels::axpy(partForce, push_.data(), zPartPrevious_.data(), K);
     std::swap(zPart_, zPartPrevious_);
-    for (int l = 0; l < listeners_; ++l)
-        partRadiation_[size_t(l)] = radiated[l] + radiationPush_[size_t(l)] * partForce;
+    for (int c = 0; c < 2; ++c)
+        partPressure_[size_t(c)] =
+            (moved[channels_ == 1 ? 0 : c] + heardPush_[size_t(c)] * partForce) / (2.0 * dt_);
+}
+
+void SharedBody::listenAt(int listener)
+{
+    listener = std::clamp(listener, 0, listeners_ - 1);
+    for (auto& channel : heard_)
+        std::copy(weights_[size_t(listener)].begin(), weights_[size_t(listener)].end(), channel.begin());
+    channels_ = 1;
+    heardListener_ = listener;
+    width_ = 0.0;
+    pushHeard();
+}
+
+void SharedBody::listenBetween(double width)
+{
+    width = std::clamp(std::isfinite(width) ? width : 0.0, 0.0, 1.0);
+    if (listeners_ < 3 || width == 0.0)
+    {
+        if (channels_ != 1 || heardListener_ != 0)
+            listenAt(0);
+        return;
+    }
+    if (width == width_ && channels_ == 2)
+        return;
+    const double u = 1.0 - width;
+    for (size_t k = 0; k < heard_[0].size(); ++k)
+        for (size_t c = 0; c < 2; ++c)
+        {
+            // (u c_0 + w c_s)^2 over the modes near k, against c^2: u^2 + w^2 + 2 u w rho_k. Divided
+            // out, the power there stays what each listener hears.
+            const double rho = sideCorrelation_[c][k];
+            heard_[c][k] = (u * weights_[0][k] + width * weights_[1 + c][k])
+                           / std::sqrt(u * u + width * width + 2.0 * u * width * rho);
+        }
+    channels_ = 2;
+    width_ = width;
+    pushHeard();
+}
+
+// sum_k g_k dt^2 kappa / m_k per channel: what the step's force adds to each channel's reading.
+void SharedBody::pushHeard()
+{
+    const int K = static_cast<int>(push_.size());
+    for (int c = 0; c < 2; ++c)
+        heardPush_[size_t(c)] = kernels::dot(heard_[size_t(c)].data(), push_.data(), K);
 }
 
 void SharedBody::step(ModalSolver* const* strings, int count, int split)
 {
-    // z~ over z^{n-1}, with its bridge reading and its radiation's at each listener, in one pass.
+    // z~ over z^{n-1}, with its bridge reading and the channels' readings of its change, in one pass.
     const int K = static_cast<int>(z_.size());
-    const double* readings[1 + kMostListeners] = {kappa_.data(), weights_[0].data(), weights_[1].data(),
-                                                  weights_[2].data()};
-    double read[1 + kMostListeners] = {};
-    kernels::predictReadings(a_.data(), e_.data(), z_.data(), zPrevious_.data(), readings, 1 + listeners_, K, K, read);
+    const double* readings[3] = {kappa_.data(), heard_[0].data(), heard_[1].data()};
+    double read[3] = {};
+    if (channels_ == 1)
+        kernels::predictWith<2, 1>(a_.data(), e_.data(), z_.data(), zPrevious_.data(), readings, K, K, read);
+    else
+        kernels::predictWith<3, 1>(a_.data(), e_.data(), z_.data(), zPrevious_.data(), readings, K, K, read);
     const double predicted = read[0];
     reach_.choose(strings, count, oneWay_, bridge_, bridgeBefore_);
     for (int i = 0; i < count; ++i)
@@ -290,8 +341,8 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     std::swap(z_, zPrevious_);
     bridgeBefore_ = bridge_;
     bridge_ = predicted + beta_ * force_;
-    for (int l = 0; l < listeners_; ++l)
-        radiation_[size_t(l)] = read[1 + l] + radiationPush_[size_t(l)] * force_;
+    for (int c = 0; c < 2; ++c)
+        pressure_[size_t(c)] = (read[channels_ == 1 ? 1 : 1 + c] + heardPush_[size_t(c)] * force_) / (2.0 * dt_);
 }
 
 }  // namespace jawari

@@ -48,7 +48,7 @@ public:
     // point of theirs a spring (checkLinear), so their force is affine in the bridge's displacement,
     // measured twice a step and solved once more at the answer, not at every secant evaluation.
     // Their forces also drive a copy of the body's modes of their own: the body is linear, so
-    // partRadiation() is their share of radiation() (split = count: none, and the copy is not stepped).
+    // partPressure() is their share of pressure() (split = count: none, and the copy is not stepped).
     void step(ModalSolver* const* strings, int count, int split);
     void step(ModalSolver* const* strings, int count) { step(strings, count, count); }
 
@@ -64,12 +64,18 @@ public:
 
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, < 0 pushing the body down)
-    // RT: sum_k c_k z_k^n at a listener of the body's (ModalBody::listeners): its centred difference is
-    // the pressure there (Pa).
-    double radiation(int listener = 0) const { return radiation_[size_t(listener)]; }
+    // Where the two channels hear the body (ModalBody::listeners). RT, no allocation.
+    // listenAt: both at one listener. listenBetween: the left channel between the first listener
+    // (width 0) and the second (1), the right between the first and the third, each mode's weight
+    // scaled so that the power near its frequency keeps the listeners' (BodyMode::correlation);
+    // with fewer than three listeners both hear the first. By default both hear the first.
+    void listenAt(int listener);
+    void listenBetween(double width);
+    // RT: the radiated pressure at a channel (0 left, 1 right) at t^n, the step before the last one
+    // stepped: sum_k g_k (z_k^{n+1} - z_k^{n-1}) / (2 dt) with the channel's weights g (Pa).
+    double pressure(int channel) const { return pressure_[size_t(channel)]; }
     // RT: the same from the forces of the strings after split.
-    double partRadiation(int listener = 0) const { return partRadiation_[size_t(listener)]; }
-    int listenerCount() const { return listeners_; }
+    double partPressure(int channel) const { return partPressure_[size_t(channel)]; }
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
     int lastTrials() const { return trials_; }            // RT: its trials (ModalSolver::trialOnMovingBridge)
     bool atRest() const;                               // RT: every mode below 1e-18 m
@@ -89,12 +95,18 @@ private:
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
     void stepPart(double partForce);
+    void pushHeard();
 
     // Per mode: the exact update's a and e, dt^2 kappa / m_k, kappa (the bridge reads sum kappa z_k),
     // z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
     std::vector<double> a_, e_, push_, kappa_;
     std::array<std::vector<double>, kMostListeners> weights_;  // c_k at each listener
-    std::array<double, kMostListeners> radiationPush_{};      // sum_k c_k dt^2 kappa / m_k at each
+    std::array<std::vector<double>, 2> sideCorrelation_;      // per mode: BodyMode::correlation[1], [2]
+    std::array<std::vector<double>, 2> heard_;                // the channels' weights g_k
+    std::array<double, 2> heardPush_{};                       // sum_k g_k dt^2 kappa / m_k per channel
+    int channels_ = 1;       // 1: both channels hear the same weights (read once)
+    int heardListener_ = 0;  // with one channel, the listener both hear
+    double width_ = 0.0;    // what listenBetween was last given
     std::vector<double> z_, zPrevious_;
     std::vector<double> kinetic_, potential_;  // per mode, m_k C1 / (2 dt^2) and m_k C2 / 2: its energy's weights
     BodyReach reach_;
@@ -103,9 +115,9 @@ private:
     std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
     double dt_ = 0.0, beta_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0;             // w^n, w^{n-1}
-    std::array<double, kMostListeners> radiation_{}, partRadiation_{};  // sum c_k z_k^n per listener
+    std::array<double, 2> pressure_{}, partPressure_{};     // per channel (Pa)
     double partForce_ = 0.0;                                // the strings' after split_
-    int listeners_ = 1;
+    int listeners_ = 1;  // the body's
     double playedForce_ = 0.0;                      // the strings' before split_, at the last evaluation
     double linearForce_ = 0.0, linearSlope_ = 0.0, linearAt_ = 0.0;  // the affine fit: F, dF/dW at W
     int split_ = 0, count_ = 0;

@@ -38,7 +38,6 @@ void Instrument::install(VoicePack* pack, VoicePack* previous)
     if (pack->body && !carry)
     {
         pack->body->silence();
-        pack->bodyStreamStarted = false;
     }
 }
 
@@ -181,21 +180,17 @@ void Instrument::mixString(int slot, const double* block, const double* second, 
         s.sounding = false;
 }
 
-// The body's radiated sound by the body's mix and the gain, with the sympathetic strings' share of
+// The body's radiated sound at each channel (its listeners as the stereo width mixes them:
+// SharedBody::listenBetween) by the body's mix and the gain, with the sympathetic strings' share of
 // it (the pressure their forces alone make) scaled by their level; all three ramped per host sample.
-// The stereo width moves each channel from the centre listener (0: both hear it) to the left and
-// right ones (1: each hears its own).
 void Instrument::mixBody(int count, const MixStart& start)
 {
     const auto& c = controls_.current();
     const int os = pack_->oversampling;
     const double gainEnd = controls_.gain(), centre = std::sqrt(0.5);
     const bool taraf = sympathetic_.count() > 0;
-    const bool sides = pack_->body->listenerCount() >= 3;
-    const double width = sides ? c.stereoWidth : 0.0;
     const auto& body = pack_->bodyBlocks;
     const auto& part = pack_->sympatheticBlocks;
-    const size_t left = sides ? 1 : 0, right = sides ? 2 : 0;
     for (int n = 0; n < count; ++n)
     {
         const double level =
@@ -204,15 +199,14 @@ void Instrument::mixBody(int count, const MixStart& start)
         for (int k = n * os; k < (n + 1) * os; ++k)
         {
             const size_t i = size_t(k);
-            double l = (1.0 - width) * body[0][i] + width * body[left][i];
-            double r = (1.0 - width) * body[0][i] + width * body[right][i];
+            double left = body[0][i], right = body[1][i];
             if (taraf)
             {
-                l -= tarafCut * ((1.0 - width) * part[0][i] + width * part[left][i]);
-                r -= tarafCut * ((1.0 - width) * part[0][i] + width * part[right][i]);
+                left -= tarafCut * part[0][i];
+                right -= tarafCut * part[1][i];
             }
-            pack_->mixLeft[i] += level * l;
-            pack_->mixRight[i] += level * r;
+            pack_->mixLeft[i] += level * left;
+            pack_->mixRight[i] += level * right;
         }
     }
 }

@@ -141,7 +141,7 @@ private:
     void stepStrings(Sounding& sounding, int samples);
     void stepWithWorker(Sounding& sounding, int samples);
     void stepOnBody(Sounding& sounding, int samples);
-    void stepBodyOnce(Sounding& sounding, long k, double dt, ModalSolver** solvers);
+    void stepBodyOnce(Sounding& sounding, long k, ModalSolver** solvers);
     void silenceBody(Sounding& sounding);
     // Where the chunk's ramps start: the gain and the body's mix as the last chunk left them.
     struct MixStart

@@ -28,21 +28,22 @@ void Instrument::stepStrings(Sounding& s, int samples)
 }
 
 // Every sounding string, the sympathetic strings and the body in lockstep, one internal step at a
-// time (SharedBody), on this thread; the body's radiated pressure at each listener into the pack's
-// body blocks, and the share of it the sympathetic strings make into theirs. A body left ringing alone steps until it
-// and its sympathetic strings are at rest.
+// time (SharedBody), on this thread; the body's radiated pressure at each channel (its listeners as
+// the stereo width mixes them) into the pack's body blocks, and the share of it the sympathetic
+// strings make into theirs. A body left ringing alone steps until it and its sympathetic strings
+// are at rest.
 void Instrument::stepOnBody(Sounding& s, int samples)
 {
     auto& body = *pack_->body;
+    body.listenBetween(controls_.current().stereoWidth);
     const long steps = long(samples) * pack_->oversampling;
     if (s.count == 0 && body.atRest() && sympathetic_.atRest())
     {
-        for (int l = 0; l < body.listenerCount(); ++l)
+        for (size_t c = 0; c < 2; ++c)
         {
-            std::fill(pack_->bodyBlocks[size_t(l)].begin(), pack_->bodyBlocks[size_t(l)].begin() + steps, 0.0);
-            std::fill(pack_->sympatheticBlocks[size_t(l)].begin(), pack_->sympatheticBlocks[size_t(l)].end(), 0.0);
+            std::fill(pack_->bodyBlocks[c].begin(), pack_->bodyBlocks[c].begin() + steps, 0.0);
+            std::fill(pack_->sympatheticBlocks[c].begin(), pack_->sympatheticBlocks[c].end(), 0.0);
         }
-        pack_->bodyStreamStarted = false;
         return;
     }
     // The sympathetic strings can hold no more than the played strings have had between them; while
@@ -59,25 +60,15 @@ void Instrument::stepOnBody(Sounding& s, int samples)
         sympathetic_.voice(j).holdGuard(plucking);
         sympathetic_.voice(j).allowEnergy(supply);
     }
-    if (!pack_->bodyStreamStarted)
-    {
-        for (int l = 0; l < body.listenerCount(); ++l)
-        {
-            pack_->bodyStreams[size_t(l)].start(body.radiation(l));
-            pack_->sympatheticStreams[size_t(l)].start(body.partRadiation(l));
-        }
-        pack_->bodyStreamStarted = true;
-    }
-    const double dt = 1.0 / (pack_->oversampling * pack_->structure.hostRateHz);
     std::array<ModalSolver*, kSlots + kMaxSympatheticStrings> solvers{};
     for (long k = 0; k < steps; ++k)
-        stepBodyOnce(s, k, dt, solvers.data());
+        stepBodyOnce(s, k, solvers.data());
 }
 
-// One internal step k (of dt seconds) of the chunk, the strings' solvers handed to the body in
-// `solvers`: writes the radiated pressure at each listener (Pa) and the sympathetic strings' share
-// of it. A body that has run away, or whose played string has, is silenced with every string on it.
-void Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solvers)
+// One internal step k of the chunk, the strings' solvers handed to the body in `solvers`: writes the
+// radiated pressure at each channel (Pa) and the sympathetic strings' share of it. A body that has
+// run away, or whose played string has, is silenced with every string on it.
+void Instrument::stepBodyOnce(Sounding& s, long k, ModalSolver** solvers)
 {
     auto& body = *pack_->body;
     const int taraf = sympathetic_.count();
@@ -106,15 +97,12 @@ void Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solv
         ranAway = ranAway || sympathetic_.voice(j).blowUps() != blowUps;
     }
     bool finite = true;
-    for (int l = 0; l < body.listenerCount(); ++l)
+    for (size_t c = 0; c < 2; ++c)
     {
-        const double p = pack_->bodyStreams[size_t(l)].advance(body.radiation(l), PickupQuantity::pressure, dt);
-        const double part =
-            taraf > 0 ? pack_->sympatheticStreams[size_t(l)].advance(body.partRadiation(l), PickupQuantity::pressure, dt)
-                      : 0.0;
-        pack_->bodyBlocks[size_t(l)][size_t(k)] = p;
+        const double p = body.pressure(int(c)), part = taraf > 0 ? body.partPressure(int(c)) : 0.0;
+        pack_->bodyBlocks[c][size_t(k)] = p;
         if (taraf > 0)
-            pack_->sympatheticBlocks[size_t(l)][size_t(k)] = part;
+            pack_->sympatheticBlocks[c][size_t(k)] = part;
         finite = finite && std::isfinite(p) && std::isfinite(part);
     }
     if (ranAway || !finite)
@@ -122,11 +110,11 @@ void Instrument::stepBodyOnce(Sounding& s, long k, double dt, ModalSolver** solv
         silenceBody(s);
         for (int i = 0; i < s.count; ++i)
             s.blocks[size_t(i)][k] = 0.0;  // what they played was moved by the runaway
-        for (int l = 0; l < body.listenerCount(); ++l)
+        for (size_t c = 0; c < 2; ++c)
         {
-            pack_->bodyBlocks[size_t(l)][size_t(k)] = 0.0;
+            pack_->bodyBlocks[c][size_t(k)] = 0.0;
             if (taraf > 0)
-                pack_->sympatheticBlocks[size_t(l)][size_t(k)] = 0.0;
+                pack_->sympatheticBlocks[c][size_t(k)] = 0.0;
         }
     }
 }
@@ -148,8 +136,6 @@ void Instrument::silenceBody(Sounding& s)
         v.allowEnergy(ceiling);
         v.holdGuard(held);
     }
-    pack_->bodyStreams = {};
-    pack_->sympatheticStreams = {};
 }
 
 // The worker takes the last strings and steps them itself, from the front of its share (a string it

@@ -85,25 +85,20 @@ struct VoicePack
     std::vector<double> workerBlocks, workerSecondBlocks;
     int oversampling = 1;
     // Through a body: the one body every string stands on (SharedBody: the strings step in lockstep
-    // with it, on the audio thread), and at each of its listeners (the centre, left and right:
-    // ModalBody::listeners) its radiated pressure's stream and one chunk of it at the internal rate.
-    // Null without a body.
+    // with it, on the audio thread), and one chunk at the internal rate of its radiated pressure at
+    // each channel (SharedBody::pressure: the left, the right). Null without a body.
     std::unique_ptr<SharedBody> body;
-    std::array<VoiceMotion::PickupStream, kMostListeners> bodyStreams;
-    bool bodyStreamStarted = false;
-    std::array<std::vector<double>, kMostListeners> bodyBlocks;
+    std::array<std::vector<double>, 2> bodyBlocks;
     // The sympathetic strings on that body (SympatheticStrings.h; none without a body): their voices,
     // their retuner, the fundamental their voices were built at, and one chunk of the
-    // radiated pressure that their forces alone make (SharedBody::partRadiation) and its stream, at
-    // each listener.
+    // radiated pressure that their forces alone make at each channel (SharedBody::partPressure).
     std::vector<std::unique_ptr<Voice>> sympathetic;
     StringRetuner sympatheticRetuner;
     double sympatheticFundamentalHz = 0.0;
     // The loaded pitch's share of the ratio, f(r) / (r f(1)), at log-spaced ratios (SympatheticStrings.cpp):
     // the bridge's spring stays as stiff while the tension scales.
     std::vector<double> sympatheticLoading;
-    std::array<VoiceMotion::PickupStream, kMostListeners> sympatheticStreams;
-    std::array<std::vector<double>, kMostListeners> sympatheticBlocks;
+    std::array<std::vector<double>, 2> sympatheticBlocks;
 
     // RT: takes the string state of another pack slot by slot (new obstacle, pluck point, ...),
     // and the decimators' history.
