@@ -82,10 +82,14 @@ void Instrument::renderChunk(float* left, float* right, int count)
 }
 
 // The controls one chunk on (k20 the 20 ms one-pole's step over it): a moved obstacle re-applies
-// the contact at once; moved damping retunes the sounding strings in followExpression.
+// the contact at once; moved damping retunes the sounding strings in followExpression; the body's
+// width follows the stereo width.
 void Instrument::followControls(double k20)
 {
     const ControlChanges changes = controls_.advance(k20);
+    const double width = controls_.current().stereoWidth;
+    const bool arrived = std::isnan(bodyWidth_) || std::abs(width - bodyWidth_) < 1e-6;
+    bodyWidth_ = arrived ? width : bodyWidth_ + k20 * (width - bodyWidth_);
     if (changes.contact && pack_ != nullptr)
         strings_.applyContact();
     dampingDirty_ = dampingDirty_ || changes.damping;

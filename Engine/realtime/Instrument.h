@@ -31,7 +31,9 @@
 #include "realtime/VoicePack.h"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace jawari
 {
@@ -173,6 +175,10 @@ private:
     int workerBias_ = 0;  // strings the worker takes beyond half (InstrumentStrings.cpp)
     bool dampingDirty_ = true;
     int maxIterations_ = 0;
+    // The width the body is heard at (SharedBody::listenBetween): it follows the stereo width through
+    // the controls' 20 ms one-pole, since the centre and a side listener are different sounds and a
+    // switch from one to the other would splice them. NaN: take the width at once.
+    double bodyWidth_ = std::numeric_limits<double>::quiet_NaN();
     int chunksSinceSnapshot_ = 0;
     double chunkPenetration_ = 0.0;
     long limitedSamples_ = 0;

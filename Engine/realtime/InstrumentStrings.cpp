@@ -35,7 +35,7 @@ void Instrument::stepStrings(Sounding& s, int samples)
 void Instrument::stepOnBody(Sounding& s, int samples)
 {
     auto& body = *pack_->body;
-    body.listenBetween(controls_.current().stereoWidth);
+    body.listenBetween(bodyWidth_);
     const long steps = long(samples) * pack_->oversampling;
     if (s.count == 0 && body.atRest() && sympathetic_.atRest())
     {
