@@ -34,6 +34,21 @@ InstrumentStructure tanpuraStructure(BodyChoice body, PluckStyle pluck)
     s.pluck = pluck;
     return s;
 }
+
+InstrumentControls mixAndWidth(double bodyMix, double width)
+{
+    InstrumentControls controls;
+    controls.bodyMix = bodyMix;
+    controls.stereoWidth = width;
+    return controls;
+}
+
+// The instrument playing `pack` with the body's mix and the stereo width given, C3 plucked.
+void startC3(Instrument& instrument, VoicePack& pack, double bodyMix, double width)
+{
+    test::start(instrument, pack, mixAndWidth(bodyMix, width));
+    instrument.noteOn(48, 0.8);
+}
 }  // namespace
 
 // One note (C3) of the tanpura's string and point bridge, 6 mm from the end, on `body`, plucked `pluck`,
@@ -127,11 +142,7 @@ TEST_CASE("Through the body the stereo width spreads its sound from the centre l
     auto play = [](double width) {
         auto pack = buildVoicePack(tanpuraStructure(BodyChoice::tanpura, PluckStyle::sharp));
         Instrument instrument;
-        InstrumentControls controls;
-        controls.bodyMix = 1.0;
-        controls.stereoWidth = width;
-        test::start(instrument, *pack, controls);
-        instrument.noteOn(48, 0.8);
+        startC3(instrument, *pack, 1.0, width);
         return test::playStereo(instrument, 1.0);
     };
     auto correlation = [](const std::vector<double>& x, const std::vector<double>& y, double low, double high) {
@@ -180,14 +191,9 @@ TEST_CASE("Through the body the stereo width moved at once glides the body's sou
     // the 16-22 kHz band's RMS over the 10 ms after the switch against the 10 ms before.
     auto pack = buildVoicePack(tanpuraStructure(BodyChoice::tanpura, PluckStyle::sharp));
     Instrument instrument;
-    InstrumentControls controls;
-    controls.bodyMix = 1.0;
-    controls.stereoWidth = 0.0;
-    test::start(instrument, *pack, controls);
-    instrument.noteOn(48, 0.8);
+    startC3(instrument, *pack, 1.0, 0.0);
     auto sound = test::playStereo(instrument, 0.3);
-    controls.stereoWidth = 1.0;
-    instrument.setControls(controls);
+    instrument.setControls(mixAndWidth(1.0, 1.0));
     const auto after = test::playStereo(instrument, 0.1);
     sound.first.insert(sound.first.end(), after.first.begin(), after.first.end());
     const auto air = zeroPhaseBand(sound.first, 48000.0, 16000.0, 22000.0);
@@ -212,11 +218,7 @@ TEST_CASE("Through the body a note feels another: on rigid supports it does not,
         structure.bodyOneWay = oneWay;
         auto pack = buildVoicePack(structure);
         Instrument instrument;
-        InstrumentControls controls;
-        controls.bodyMix = 0.0;
-        controls.stereoWidth = 1.0;
-        test::start(instrument, *pack, controls);
-        instrument.noteOn(48, 0.8);
+        startC3(instrument, *pack, 0.0, 1.0);
         if (withC7)
             instrument.noteOn(96, 0.8);
         return test::playLeft(instrument, 0.3);
