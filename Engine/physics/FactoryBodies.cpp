@@ -266,7 +266,7 @@ const PlateBodyRecipe& tanpuraBodyRecipe()
 
 std::optional<ModalBody> factoryBody(const std::string& name)
 {
-    // Fitted once per process (its three listeners' fits take a good part of a second), then copied.
+    // Fitted once per process (its three listeners' fits take about 0.17 s), then copied.
     static const ModalBody tanpura = plateBody(tanpuraBodyRecipe());
     if (name == "tanpura")
         return tanpura;

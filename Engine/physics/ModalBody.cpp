@@ -176,19 +176,28 @@ std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, co
     return points;
 }
 
-std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity, int listener)
+namespace
+{
+void checkListener(const ModalBody& body, int listener)
 {
     if (listener < 0 || size_t(listener) >= body.listeners.size())
         throw std::invalid_argument("listener " + std::to_string(listener) + ": the body has "
                                     + std::to_string(body.listeners.size()) + " listeners");
+}
+}  // namespace
+
+std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity, int listener)
+{
+    checkListener(body, listener);
     std::vector<double> h(size_t(stringModes), 0.0);
     for (const auto& mode : body.modes)
-        h.push_back(mode.radiation.at(size_t(listener)) * std::sqrt(linearDensity / mode.massKg));
+        h.push_back(mode.radiation[size_t(listener)] * std::sqrt(linearDensity / mode.massKg));
     return h;
 }
 
 BodyResponse bodyResponse(const ModalBody& body, double frequencyHz, int listener)
 {
+    checkListener(body, listener);
     const double w = 2.0 * std::numbers::pi * frequencyHz;
     std::complex<double> Y = 0.0, P = 0.0;
     for (const auto& mode : body.modes)
@@ -198,7 +207,7 @@ BodyResponse bodyResponse(const ModalBody& body, double frequencyHz, int listene
         const std::complex<double> receptance =
             1.0 / (mode.massKg * std::complex<double>(wk * wk - w * w, 2.0 * mode.sigma * w));
         Y += std::complex<double>(0.0, w) * receptance;
-        P += mode.radiation.at(size_t(listener)) * std::complex<double>(0.0, w) * receptance;
+        P += mode.radiation[size_t(listener)] * std::complex<double>(0.0, w) * receptance;
     }
     return {Y.real(), Y.imag(), P.real(), P.imag()};
 }

@@ -87,11 +87,13 @@ std::vector<char> contactPointsOnBody(const std::vector<Obstacle>& obstacles, co
 ModalSolverConfig withBody(const ModalSolverConfig& strings, const BodyJoin& join);
 
 // The pickup weights (M + K values) that read sum_k c_k z_k at the listener: the radiated pressure
-// there is their time derivative (the centred difference over two steps).
+// there is their time derivative (the centred difference over two steps). Throws
+// std::invalid_argument for a listener the body lacks, as bodyResponse does.
 std::vector<double> radiationWeights(const ModalBody& body, int stringModes, double linearDensity, int listener = 0);
 
 // The bridge's mobility Y(f) and the radiated pressure per newton on the bridge, P(f) = sum_k c_k i w
-// / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)), at frequency f (Hz): the body's own responses.
+// / (m_k (omega_k^2 - w^2 + 2 i sigma_k w)) at the listener, at frequency f (Hz): the body's own
+// responses.
 struct BodyResponse
 {
     double mobilityReal = 0.0, mobilityImag = 0.0;  // s/kg

@@ -243,9 +243,15 @@ void SharedBody::stepPart(double partForce)
         kernels::predictWith<2, 0>(a_.data(), e_.data(), zPart_.data(), zPartPrevious_.data(), readings, K, K, moved);
     kernels::axpy(partForce, push_.data(), zPartPrevious_.data(), K);
     std::swap(zPart_, zPartPrevious_);
+    pressuresFrom(moved, partForce, partPressure_);
+}
+
+// The channels' pressures at t^n from their readings of z~ - z^{n-1} (`moved`: one value when both
+// channels hear the same) and the step's force on the modes read.
+void SharedBody::pressuresFrom(const double* moved, double force, std::array<double, 2>& out) const
+{
     for (int c = 0; c < 2; ++c)
-        partPressure_[size_t(c)] =
-            (moved[channels_ == 1 ? 0 : c] + heardPush_[size_t(c)] * partForce) / (2.0 * dt_);
+        out[size_t(c)] = (moved[channels_ == 1 ? 0 : c] + heardPush_[size_t(c)] * force) / (2.0 * dt_);
 }
 
 void SharedBody::listenAt(int listener)
@@ -341,8 +347,7 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     std::swap(z_, zPrevious_);
     bridgeBefore_ = bridge_;
     bridge_ = predicted + beta_ * force_;
-    for (int c = 0; c < 2; ++c)
-        pressure_[size_t(c)] = (read[channels_ == 1 ? 1 : 1 + c] + heardPush_[size_t(c)] * force_) / (2.0 * dt_);
+    pressuresFrom(read + 1, force_, pressure_);
 }
 
 }  // namespace jawari

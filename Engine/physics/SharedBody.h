@@ -96,6 +96,7 @@ private:
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
     void stepPart(double partForce);
     void pushHeard();
+    void pressuresFrom(const double* moved, double force, std::array<double, 2>& out) const;
 
     // Per mode: the exact update's a and e, dt^2 kappa / m_k, kappa (the bridge reads sum kappa z_k),
     // z^n and z^{n-1} (the prediction is written over z^{n-1}, then swapped in).
