@@ -345,3 +345,47 @@ TEST_CASE("the quadratic spline's solve gives G'(r) at its root, as the chord sl
         CHECK(worst < 1e-4);
     }
 }
+
+TEST_CASE("a spring and a point that can touch: the trial with the spring is the coupled solve, and its dG/db "
+          "matches a difference")
+{
+    // Point 0 a damped spring (a bilateral law), point 1 a stiff unilateral one, coupled densely.
+    // ContactSystem::trialWithSpring poses solveWithBilateral's Schur complement without keeping
+    // anything: its G_t and G_a are the solve's, and its derivatives (both b raised together, as a
+    // bridge that sinks) those of a centred difference over +-1e-7 of the b's scale.
+    std::mt19937 rng(41);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    double worstForce = 0.0, worstSlope = 0.0;
+    int touching = 0, compared = 0;
+    for (int n = 0; n < 400; ++n)
+    {
+        DenseCoupling c(2, rng);
+        c.points[0].law = solverLaw({1e8 * (1.5 + unit(rng)), 1.0, true, 10.0 * (1.0 + unit(rng))}, 1e-6);
+        c.system.prepare(c.points, c.A);
+        const double s[2] = {1e-6 * unit(rng), 1e-5 * unit(rng)};
+        const double b[2] = {s[0] + 1e-6 * unit(rng), s[1] - 1e-5 * unit(rng)};
+        double r[2], G[2];
+        c.system.solve(s, b, r, G);
+        const auto trial = c.system.trialWithSpring(0, 1, s[0], b[0], s[1], b[1]);
+        const double scale = std::abs(G[0]) + std::abs(G[1]) + 1e-300;
+        worstForce = std::max({worstForce, std::abs(trial.Gt - G[0]) / scale, std::abs(trial.Ga - G[1]) / scale});
+        touching += G[1] != 0.0;
+        const double h = 1e-7 * (std::abs(b[1]) + std::abs(b[0]));
+        const auto up = c.system.trialWithSpring(0, 1, s[0], b[0] + h, s[1], b[1] + h);
+        const auto down = c.system.trialWithSpring(0, 1, s[0], b[0] - h, s[1], b[1] - h);
+        if ((up.Ga == 0.0) != (down.Ga == 0.0))
+            continue;  // the point lifts off within the difference: G_a has a kink there
+        const double dGt = (up.Gt - down.Gt) / (2.0 * h), dGa = (up.Ga - down.Ga) / (2.0 * h);
+        const double slopeScale = std::abs(dGt) + std::abs(dGa);
+        worstSlope =
+            std::max({worstSlope, std::abs(trial.dGt - dGt) / slopeScale, std::abs(trial.dGa - dGa) / slopeScale});
+        ++compared;
+    }
+    INFO(touching << " of 400 with the point pressing, " << compared << " derivatives compared; worst G " << worstForce
+                  << ", worst dG/db " << worstSlope);
+    CHECK(touching > 100);
+    CHECK(touching < 380);
+    CHECK(compared > 350);
+    CHECK(worstForce < 1e-12);
+    CHECK(worstSlope < 1e-5);
+}

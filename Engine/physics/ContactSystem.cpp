@@ -258,6 +258,31 @@ bool ContactSystem::solveWithBilateral(int t, int a, const double* s, const doub
     return true;
 }
 
+// With both b rising by one: G0 by c / stiffen, a's b' by 1 - A_at c / stiffen, so r_a by
+// db' / (1 + k' G_a'), G_a by G_a' dr_a, and G_t = G0 + gamma G_a by dG0 + gamma dG_a.
+ContactSystem::SpringTrial ContactSystem::trialWithSpring(int t, int a, double st, double bt, double sa,
+                                                          double ba) const
+{
+    const ChordSlope thread = chordSlope(points_[size_t(t)].law, st, 0.0);
+    const double g0 = thread.value, c = thread.derivative;
+    const double stiffen = 1.0 + A_(t, t) * c;
+    SpringTrial out;
+    out.Gt = (g0 + c * bt) / stiffen;
+    out.dGt = c / stiffen;
+    if (a < 0)
+        return out;
+    const double gamma = -c * A_(t, a) / stiffen;
+    const double k = A_(a, a) + A_(a, t) * gamma;
+    const ScalarContactSolution sol = solveScalarContact(points_[size_t(a)].law, sa, ba - A_(a, t) * out.Gt, k,
+                                                         &series_[size_t(a)], &known_[size_t(a)][1]);
+    const double dGa = chordSlopeDerivative(points_[size_t(a)].law, sa, sol);
+    out.Ga = sol.slope;
+    out.dGa = dGa * (1.0 - A_(a, t) * out.dGt) / (1.0 + k * dGa);
+    out.Gt += gamma * out.Ga;
+    out.dGt += gamma * out.dGa;
+    return out;
+}
+
 // No point can touch: every r is the contact-free b, every force 0.
 void ContactSystem::releaseAll(const double* b, double* r, double* slope)
 {

@@ -55,6 +55,15 @@ public:
         return solveScalarContact(points_[size_t(j)].law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1]);
     }
 
+    // RT: solveWithBilateral's equations for the bilateral point t and the point a that can touch (-1:
+    // none), every other point's force 0, nothing kept (a caller's trial, as solveAlone): G_t, G_a, and
+    // their derivatives as b_t and b_a rise together (dG/db; NaN where G_a' has no closed form).
+    struct SpringTrial
+    {
+        double Gt = 0.0, Ga = 0.0, dGt = 0.0, dGa = 0.0;
+    };
+    SpringTrial trialWithSpring(int t, int a, double st, double bt, double sa, double ba) const;
+
 private:
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
     bool solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations);

@@ -116,6 +116,8 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
     int j = 0;  // a string's one point: its scalar equation is its solve, the trial exact
     if (slope != nullptr)
         *slope = 0.0;
+    if (P_ > 1 && springPoint_ >= 0)
+        return trialWithSpring(before, move, slope);
     if (P_ == 0 || (P_ > 1 && pressing_.empty()))
         return 0.0;
     if (P_ > 1)
@@ -139,6 +141,31 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
         trialMove_ = move;
     }
     return contacts_[j].weight * solution.slope;
+}
+
+// A string held by one spring (a bilateral point: the damped thread, a sympathetic string's bridge)
+// beside points that can touch: the spring and the one other point that presses (a string with two
+// points: its other one, whatever it did before, so the trial is its solve), by the Schur complement
+// of ContactSystem::solveWithBilateral. NaN if two others pressed at the last solve.
+double ModalSolver::trialWithSpring(double before, double move, double* slope) const
+{
+    const int t = springPoint_;
+    int a = -1;
+    for (int j = 0; j < P_; ++j)
+        if (j != t && (P_ == 2 || std::find(pressing_.begin(), pressing_.end(), j) != pressing_.end()))
+        {
+            if (a >= 0)
+                return std::numeric_limits<double>::quiet_NaN();
+            a = j;
+        }
+    if (a >= 0 && !reach_.live(a))
+        a = -1;  // out of reach: it stays off whatever the bridge does this step
+    const auto trial = system_.trialWithSpring(t, a, sOnBridge(t, before), bOnBridge(t, move),
+                                               a >= 0 ? sOnBridge(a, before) : 0.0, a >= 0 ? bOnBridge(a, move) : 0.0);
+    const double wt = contacts_[t].weight, wa = a >= 0 ? contacts_[a].weight : 0.0;
+    if (slope != nullptr)
+        *slope = -(wt * trial.dGt + wa * trial.dGa);  // b falls by one per metre the bridge moves
+    return wt * trial.Gt + wa * trial.Ga;
 }
 
 double ModalSolver::sOnBridge(int j, double before) const
@@ -337,8 +364,24 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
     contacts_[size_t(j)].law = solverLaw(law, dt_);
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, contacts_[size_t(j)].law);
+    findSpringPoint();
     if (method_ == ContactMethod::quadraticSpline && lawChanged && !law.bilateral)
         splines_[size_t(j)].setLaw(law);
+}
+
+// springPoint_: the one bilateral point of a string solved by the energy-conserving method, else -1.
+void ModalSolver::findSpringPoint()
+{
+    springPoint_ = -1;
+    int springs = 0;
+    for (int j = 0; j < P_; ++j)
+        if (contacts_[size_t(j)].law.bilateral)
+        {
+            springPoint_ = j;
+            ++springs;
+        }
+    if (springs != 1 || method_ != ContactMethod::energyConserving)
+        springPoint_ = -1;
 }
 
 void ModalSolver::displacementAt(const double* shapes, int count, double* out)

@@ -160,6 +160,7 @@ void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::
         pointCoupling_.col(j) /= contacts_[j].weight;
     quadratised_.prepare(P_);
     system_.prepare(contacts_, std::move(A));
+    findSpringPoint();
     if (method_ == ContactMethod::quadraticSpline)
     {
         // Closed form per point: the points must not be coupled (one point, or the reference grid).
