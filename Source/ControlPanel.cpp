@@ -120,6 +120,9 @@ const ControlSpec kControls[] = {
      "Just: pure intervals above Sa. Keyboard: the pitch the keyboard plays for each note (its Scala scale)."},
     {"Sympathetic", ids::sympatheticDamping, "Damping", "Scales their damping: a cloth laid over them."},
     {"Sympathetic", ids::sympatheticLevel, "Level", "Their share of the body's sound."},
+    {"Sympathetic", ids::sympatheticJawari, "Jawari",
+     "Each rests on a curved bridge of its own and buzzes on it, the brighter the louder it rings. Costs CPU: "
+     "they are then solved with the played strings."},
 };
 static_assert(std::size(kControls) == kParameterCount);
 

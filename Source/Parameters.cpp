@@ -256,6 +256,8 @@ void addSympathetic(Layout& layout)
                       float(c.sympatheticDamping), asMultiplier(2)));
     layout.add(number(ids::sympatheticLevel, "Sympathetic level", Range(0.0f, 1.0f, 0.001f),
                       float(c.sympatheticLevel), asPercent()));
+    layout.add(std::make_unique<juce::AudioParameterBool>(juce::ParameterID{ids::sympatheticJawari, 1},
+                                                          "Sympathetic jawari", kStructureDefaults.sympatheticJawari));
 }
 
 int rounded(float value)
@@ -336,6 +338,7 @@ InstrumentStructure ParameterReader::structure(double hostRateHz) const
     s.bodyTuning = get(ids::bodyTuning);
     s.bodyDamping = get(ids::bodyDamping);
     s.sympatheticStrings = std::clamp(rounded(get(ids::sympathetic)), 0, kMaxSympatheticStrings);
+    s.sympatheticJawari = get(ids::sympatheticJawari) > 0.5f;
     s.hostRateHz = hostRateHz;
     return s;
 }

@@ -71,6 +71,7 @@ inline constexpr const char* sympatheticScale = "sympatheticScale";
 inline constexpr const char* sympatheticIntonation = "sympatheticIntonation";
 inline constexpr const char* sympatheticDamping = "sympatheticDamping";
 inline constexpr const char* sympatheticLevel = "sympatheticLevel";
+inline constexpr const char* sympatheticJawari = "sympatheticJawari";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -126,7 +127,8 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::sympatheticScale,
                                                 ids::sympatheticIntonation,
                                                 ids::sympatheticDamping,
-                                                ids::sympatheticLevel};
+                                                ids::sympatheticLevel,
+                                                ids::sympatheticJawari};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

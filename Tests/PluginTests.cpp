@@ -390,7 +390,8 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::sympatheticScale, 3.0f},
                                                       {ids::sympatheticIntonation, 0.0f},
                                                       {ids::sympatheticDamping, 1.0f},
-                                                      {ids::sympatheticLevel, 1.0f}};
+                                                      {ids::sympatheticLevel, 1.0f},
+                                                      {ids::sympatheticJawari, 0.0f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -509,7 +510,8 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::sympatheticScale, 9.0f},
                                                     {ids::sympatheticIntonation, 1.0f},
                                                     {ids::sympatheticDamping, 4.0f},
-                                                    {ids::sympatheticLevel, 0.3f}};
+                                                    {ids::sympatheticLevel, 0.3f},
+                                                    {ids::sympatheticJawari, 1.0f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -542,6 +544,7 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(s.bodyTuning == Approx(1.5).epsilon(1e-4));
     CHECK(s.bodyDamping == Approx(2.0).epsilon(1e-4));
     CHECK(s.sympatheticStrings == 7);
+    CHECK(s.sympatheticJawari);
     CHECK(s.hostRateHz == 44100.0);
 
     const auto c = reader.controls(curve);
@@ -758,10 +761,11 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
                         p.parameters().getParameter(id)->setValueNotifyingHost(0.7f);
                 if (b == 100)
                     midi.addEvent(juce::MidiMessage::allNotesOff(1), 0);
-                if (b == 120 && body)  // fewer sympathetic strings: a new pack, built off this thread
+                if (b == 120 && body)  // fewer sympathetic strings, on their jawari: a new pack, built off this thread
                 {
                     test::countAllocationsOnThisThread(false);
                     setParameter(p, ids::sympathetic, 5.0f);
+                    setParameter(p, ids::sympatheticJawari, 1.0f);
                     REQUIRE(p.waitForBuilds());
                     test::countAllocationsOnThisThread(true);
                 }

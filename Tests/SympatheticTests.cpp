@@ -189,6 +189,18 @@ TEST_CASE("A scene's sympathetic strings: tuned on their bridges' springs, bad i
     CHECK_THAT(refused(R"({"count": 13, "sa": 138.59, "scale": "Yaman"})"),
                Catch::Contains("body.sympathetic_strings.scale"));
     CHECK_THAT(refused(R"({"count": 13, "sa": 138.59, "tuning": 1})"), Catch::Contains("tuning"));
+    // On their jawari: the spring, then the point just beyond it towards the speaking length, at the
+    // string's height (grazing), so each still sounds its note.
+    const Scene onJawari = sceneWith(R"({"count": 13, "sa": 138.59, "scale": "Bilaval", "jawari": true})");
+    REQUIRE(onJawari.body->strings[3].obstacles.size() == 2);
+    CHECK(onJawari.body->strings[3].obstacles[1].position
+          == Approx(onJawari.body->strings[3].obstacles[0].position + kSympatheticJawariDistance));
+    CHECK(onJawari.body->strings[3].obstacles[1].height == 0.0);
+    CHECK_FALSE(onJawari.body->strings[3].obstacles[1].law.bilateral);
+    CHECK(soundsHz(onJawari.body->strings[3]) == Approx(2.0 * 138.59).epsilon(1e-9));
+    CHECK(scene.body->strings[3].obstacles.size() == 1);
+    CHECK_THAT(refused(R"({"count": 13, "sa": 138.59, "jawari": 1})"),
+               Catch::Contains("body.sympathetic_strings.jawari"));
     // The voices stand every obstacle on the shared body, and solve by the scheme.
     auto refusal = [](const std::string& method, const std::string& bodyObstacles) {
         try
@@ -223,26 +235,32 @@ TEST_CASE("A scene's sympathetic strings: tuned on their bridges' springs, bad i
 
 TEST_CASE("Each sympathetic string sounds its note on its bridge's spring, to 0.1 cent", "[sympathetic][instrument]")
 {
-    // The spring stays as stiff while a retune scales the tension: the voice corrects for it.
-    auto pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
-    Instrument instrument;
-    InstrumentControls controls = tarafControls(SympatheticScale::kalyan);
-    start(instrument, *pack, controls);
-    double worst = 0.0;
-    for (int k = 0; k < kMaxSympatheticStrings; ++k)
+    // The spring stays as stiff while a retune scales the tension: the voice corrects for it. On their
+    // jawari too (at 48 modes): it touches with no force at rest.
+    for (const bool jawari : {false, true})
     {
-        auto config = voiceSolverConfig(sympatheticVoiceConfig({}, 48000.0));
-        auto& voice = *pack->sympathetic[size_t(k)];
-        for (int p = 0; p < config.modes.size(); ++p)
-            config.modes.omega[size_t(p)] *= voice.tuningRatio();  // the retuned modes, the spring as built
-        for (double& c : config.contactCompliance)
-            c /= voice.tuningRatio() * voice.tuningRatio();  // the dropped modes' compliance, 1 / tension
-        const double hz = springLoadedFrequencyHz(config, 0);
-        const double cents = 1200.0 * std::log2(hz / frequencyOfPitch(instrument.sympathetic().pitch(k), 440.0));
-        worst = std::max(worst, std::abs(cents));
+        auto structure = test::sitarStructure(kMaxSympatheticStrings);
+        structure.sympatheticJawari = jawari;
+        auto pack = buildVoicePack(structure);
+        Instrument instrument;
+        InstrumentControls controls = tarafControls(SympatheticScale::kalyan);
+        start(instrument, *pack, controls);
+        double worst = 0.0;
+        for (int k = 0; k < kMaxSympatheticStrings; ++k)
+        {
+            auto config = voiceSolverConfig(sympatheticVoiceConfig({}, 48000.0, jawari));
+            auto& voice = *pack->sympathetic[size_t(k)];
+            for (int p = 0; p < config.modes.size(); ++p)
+                config.modes.omega[size_t(p)] *= voice.tuningRatio();  // the retuned modes, the spring as built
+            for (double& c : config.contactCompliance)
+                c /= voice.tuningRatio() * voice.tuningRatio();  // the dropped modes' compliance, 1 / tension
+            const double hz = springLoadedFrequencyHz(config, 0);
+            const double cents = 1200.0 * std::log2(hz / frequencyOfPitch(instrument.sympathetic().pitch(k), 440.0));
+            worst = std::max(worst, std::abs(cents));
+        }
+        INFO("the largest error " << worst << " cents" << (jawari ? " on their jawari" : ""));
+        CHECK(worst < 0.1);
     }
-    INFO("the largest error " << worst << " cents");
-    CHECK(worst < 0.1);
 }
 
 TEST_CASE("Retuning ringing sympathetic strings clicks no more than their sound moves anyway", "[sympathetic][instrument]")
@@ -326,4 +344,43 @@ TEST_CASE("The voice with sympathetic strings on the body against the reference:
     CHECK(figures.relL2 < 0.1 * withoutTaraf.relL2);
     // The floor: a pluck 1e-4 harder moves the reference by rounding's share of the voice's distance.
     CHECK(floor.lsd < 0.01 * figures.lsd);
+}
+
+TEST_CASE("On their jawari the sympathetic strings buzz: their share of the sound carries more of its energy above "
+          "3 kHz than with the jawari out of their reach",
+          "[sympathetic][instrument]")
+{
+    // C#4 held a second drives the taraf (string 3 at its pitch). Their share of the sound is the output
+    // at their level 1 less the same at level 0 (the level only mixes: the body is linear). With each
+    // jawari lowered 1 mm the strings never touch it, which is the spring alone at the same 48 modes.
+    auto shareAbove3kHz = [](bool reached) {
+        auto structure = test::sitarStructure(kMaxSympatheticStrings);
+        structure.sympatheticJawari = true;
+        std::vector<double> out[2];
+        for (int level = 0; level < 2; ++level)
+        {
+            auto pack = buildVoicePack(structure);
+            REQUIRE(pack->sympathetic.front()->solver().contactCount() == 2);
+            if (!reached)
+                for (auto& taraf : pack->sympathetic)
+                    taraf->solver().setContact(1, sympatheticJawari(0.55).law, -1e-3);
+            out[level] = play(61, equalTemperament(), 1.0, double(level), std::move(pack)).left;
+        }
+        std::vector<double> share(out[1].size());
+        for (size_t i = 0; i < share.size(); ++i)
+            share[i] = out[1][i] - out[0][i];
+        const auto high = zeroPhaseBand(share, 48000.0, 3000.0, 20000.0);
+        double all = 0.0, above = 0.0;
+        for (size_t i = 9600; i < share.size(); ++i)  // from 0.2 s
+        {
+            all += share[i] * share[i];
+            above += high[i] * high[i];
+        }
+        return above / all;
+    };
+    const double buzzing = shareAbove3kHz(true), apart = shareAbove3kHz(false);
+    INFO("the share of their sound above 3 kHz over 0.2-1 s: " << buzzing << " on their jawari, " << apart
+                                                               << " with it out of reach ("
+                                                               << 10.0 * std::log10(buzzing / apart) << " dB)");
+    CHECK(buzzing > 1.5 * apart);
 }

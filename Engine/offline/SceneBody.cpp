@@ -123,7 +123,8 @@ BodyString readBodyString(const json& value, const std::string& path)
 }
 
 // The sympathetic strings (SympatheticStrings.h): "count" of them, tuned from "sa" (Hz) to a "scale"
-// (a thaat, or Sa-Pa) in pure intervals, each at rest on its bridge's spring.
+// (a thaat, or Sa-Pa) in pure intervals, each at rest on its bridge's spring, and with "jawari" on
+// the curved top beyond it too.
 std::vector<BodyString> readSympatheticStrings(const json& value, const std::string& path)
 {
     ObjectReader r(value, path);
@@ -137,6 +138,7 @@ std::vector<BodyString> readSympatheticStrings(const json& value, const std::str
         throw SceneError(r.at("sa"), "must be between 20 and 1000 Hz (got " + show(sa) + ")");
     const std::vector<const char*> names(std::begin(kSympatheticScaleNames), std::end(kSympatheticScaleNames));
     const auto scaleName = r.string("scale", "Kafi", names);
+    const bool jawari = r.boolean("jawari", false);
     r.rejectUnknown();
     const auto scale = static_cast<SympatheticScale>(
         std::find_if(names.begin(), names.end(), [&](const char* n) { return scaleName == n; }) - names.begin());
@@ -148,6 +150,8 @@ std::vector<BodyString> readSympatheticStrings(const json& value, const std::str
         BodyString s;
         s.string = sympatheticStringAt(frequencyOfPitch(pitch, 440.0));
         s.obstacles = {sympatheticBridge(s.string.lengthMetres)};
+        if (jawari)
+            s.obstacles.push_back(sympatheticJawari(s.string.lengthMetres));
         s.excitation.amplitude = 0.0;
         strings.push_back(s);
     }

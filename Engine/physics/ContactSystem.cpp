@@ -269,6 +269,7 @@ ContactSystem::SpringTrial ContactSystem::trialWithSpring(int t, int a, double s
     SpringTrial out;
     out.Gt = (g0 + c * bt) / stiffen;
     out.dGt = c / stiffen;
+    out.rt = (bt - A_(t, t) * g0) / stiffen;  // as solveWithBilateral's, with a's force below
     if (a < 0)
         return out;
     const double gamma = -c * A_(t, a) / stiffen;
@@ -276,11 +277,20 @@ ContactSystem::SpringTrial ContactSystem::trialWithSpring(int t, int a, double s
     const ScalarContactSolution sol = solveScalarContact(points_[size_t(a)].law, sa, ba - A_(a, t) * out.Gt, k,
                                                          &series_[size_t(a)], &known_[size_t(a)][1]);
     const double dGa = chordSlopeDerivative(points_[size_t(a)].law, sa, sol);
+    out.a = sol;
     out.Ga = sol.slope;
     out.dGa = dGa * (1.0 - A_(a, t) * out.dGt) / (1.0 + k * dGa);
     out.Gt += gamma * out.Ga;
     out.dGt += gamma * out.dGa;
+    out.rt = (bt - A_(t, t) * g0 - A_(t, a) * sol.slope) / stiffen;
     return out;
+}
+
+void ContactSystem::recordSpringTrial(int t, int a, const SpringTrial& trial, double* r, double* slope)
+{
+    if (a >= 0)
+        record(a, trial.a.r, trial.a.slope, trial.a.penetration, r, slope);
+    record(t, trial.rt, trial.Gt, KnownPower{}, r, slope);
 }
 
 // No point can touch: every r is the contact-free b, every force 0.

@@ -61,8 +61,14 @@ public:
     struct SpringTrial
     {
         double Gt = 0.0, Ga = 0.0, dGt = 0.0, dGa = 0.0;
+        double rt = 0.0;
+        ScalarContactSolution a;  // the point's (r = b, G = 0 without one)
     };
     SpringTrial trialWithSpring(int t, int a, double st, double bt, double sa, double ba) const;
+    // RT: that trial kept as solveWithBilateral keeps its solution (r, G and their history), for a
+    // caller whose solve it is: a string with the spring and the one point, both listed (a < 0: the
+    // spring alone listed).
+    void recordSpringTrial(int t, int a, const SpringTrial& trial, double* r, double* slope);
 
 private:
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);

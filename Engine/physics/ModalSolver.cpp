@@ -89,7 +89,13 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         s_[j] = sOnBridge(j, before);
         b_[j] = bOnBridge(j, move);
     }
-    if (P_ == 1 && before == trialBefore_ && move == trialMove_)
+    if (springTrialPresser_ >= -1 && before == trialBefore_ && move == trialMove_)
+    {
+        // The step's last trial was this string's solve: the spring and its other point.
+        system_.recordSpringTrial(springPoint_, springTrialPresser_, springTrial_, r_.data(), slope_.data());
+        lastIterations_ += springTrial_.a.iterations;
+    }
+    else if (P_ == 1 && before == trialBefore_ && move == trialMove_)
     {
         // The step's last trial posed this very equation (a string's one point): its solution is
         // the solve's, kept as solveContacts() keeps one.
@@ -165,6 +171,14 @@ double ModalSolver::trialWithSpring(double before, double move, double* slope) c
     const double wt = contacts_[t].weight, wa = a >= 0 ? contacts_[a].weight : 0.0;
     if (slope != nullptr)
         *slope = -(wt * trial.dGt + wa * trial.dGa);  // b falls by one per metre the bridge moves
+    if (P_ == 2)
+    {
+        // Its solve: kept, so that the step's solve at this bridge takes it (solveOnMovingBridge).
+        springTrial_ = trial;
+        springTrialPresser_ = a;
+        trialBefore_ = before;
+        trialMove_ = move;
+    }
     return wt * trial.Gt + wa * trial.Ga;
 }
 
@@ -245,6 +259,7 @@ void ModalSolver::wakeAllMidStep()
 {
     if (!pairedOnBridge_)
         reach_.wakeAll([this](int j) { projectPointMidStep(j); });
+    trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();  // a trial without them is no solve
 }
 
 // Point j joins after the prediction was written over q^{n-1} (the single layout, no explicit force:

@@ -343,6 +343,10 @@ private:
     // A one-point string's last trial of the step (trialOnMovingBridge) and where it was posed: a
     // solve at the same place takes it (NaN: none yet).
     mutable ScalarContactSolution trial_;
+    // A string with a spring and one other point: its last trial, which is its solve, and the point it
+    // took (-1: the spring alone); -2 for every other string.
+    mutable ContactSystem::SpringTrial springTrial_;
+    mutable int springTrialPresser_ = -2;
     mutable double trialBefore_ = std::numeric_limits<double>::quiet_NaN();
     mutable double trialMove_ = std::numeric_limits<double>::quiet_NaN();
 };

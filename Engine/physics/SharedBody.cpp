@@ -138,6 +138,11 @@ double SharedBody::trialForce(ModalSolver* const* strings, int from, int to, dou
 double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
 {
     playedForce_ = solveForce(strings, 0, split_, before, bridge);
+    if (linearFrom_ > split_)
+    {
+        partForce_ = solveForce(strings, split_, linearFrom_, before, bridge);
+        playedForce_ += partForce_;
+    }
     return playedForce_;
 }
 
@@ -148,10 +153,11 @@ void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at
 {
     constexpr double kStep = 1e-9;  // m: any step measures an affine force; this one keeps rounding small
     linearAt_ = at;
-    linearForce_ = trialForce(strings, split_, count_, before, at);
+    linearForce_ = trialForce(strings, linearFrom_, count_, before, at);
     const bool byTrials = std::isfinite(linearForce_);
     auto force = [&](double w) {
-        return byTrials ? trialForce(strings, split_, count_, before, w) : solveForce(strings, split_, count_, before, w);
+        return byTrials ? trialForce(strings, linearFrom_, count_, before, w)
+                        : solveForce(strings, linearFrom_, count_, before, w);
     };
     if (!byTrials)
         linearForce_ = force(at);
@@ -205,16 +211,16 @@ double secant(ResidualOf&& residual, Tolerance&& tolerance, double w0, Residual 
 double SharedBody::solveBridge(ModalSolver* const* strings, double before, double predicted)
 {
     auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(predicted - before)) + 1e-30; };
-    if (split_ < count_)
+    if (linearFrom_ < count_)
         fitLinear(strings, before, predicted + beta_ * force_);
-    auto linear = [&](double w) { return split_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
+    auto linear = [&](double w) { return linearFrom_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
     double w = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
     constexpr int kMostEvaluations = 16;
     auto trialResidual = [&](double x) {
         double dForce = 0.0;
-        const double force = trialForce(strings, 0, split_, before, x, &dForce);
+        const double force = trialForce(strings, 0, linearFrom_, before, x, &dForce);
         return Residual{x - predicted - beta_ * (force + linear(x)),
-                        1.0 - beta_ * (dForce + (split_ < count_ ? linearSlope_ : 0.0))};
+                        1.0 - beta_ * (dForce + (linearFrom_ < count_ ? linearSlope_ : 0.0))};
     };
     if (const Residual first = trialResidual(w); std::isfinite(first.value))
     {
@@ -316,14 +322,20 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     evaluations_ = trials_ = 0;
     split_ = split;
     count_ = count;
+    linearFrom_ = split;
+    for (int i = split; i < count && linearFrom_ < count; ++i)
+        if (!standsOnSprings(*strings[i]))
+            linearFrom_ = count;  // one of them can leave a point: each is solved at every evaluation
     // One way, the strings' bridge stands still: their solve once, with it at rest.
     const double before = oneWay_ ? 0.0 : bridgeBefore_;
     double bridge = oneWay_ ? 0.0 : solveBridge(strings, before, predicted);
-    resolved_ = !oneWay_ && !reach_.withinBudgets(forces_.data(), std::min(split, BodyReach::kMostStrings), before, bridge);
+    resolved_ =
+        !oneWay_
+        && !reach_.withinBudgets(forces_.data(), std::min(linearFrom_, BodyReach::kMostStrings), before, bridge);
     if (resolved_)
     {
         // Beyond what the live points were chosen for: the step again with every point.
-        for (int i = 0; i < split; ++i)
+        for (int i = 0; i < linearFrom_; ++i)
             strings[i]->wakeAllMidStep();
         reach_.chooseAgain();
         bridge = solveBridge(strings, before, predicted);
@@ -333,8 +345,8 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
         evaluate(strings, 0.0, 0.0);
         evaluations_ = 1;
     }
-    force_ = playedForce_;
-    if (split < count)
+    force_ = playedForce_;  // with the strings after split when they are not linear
+    if (linearFrom_ < count)
     {
         partForce_ = solveForce(strings, split, count, before, bridge);
         force_ += partForce_;

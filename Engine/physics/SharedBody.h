@@ -44,11 +44,12 @@ public:
     static bool standsOnSprings(const ModalSolver& string);
 
     // RT: one step of `count` strings and of the body. An explicit force on a string is part of its
-    // prediction. The strings from `split` on (the sympathetic strings) are linear: every contact
-    // point of theirs a spring (checkLinear), so their force is affine in the bridge's displacement,
-    // measured twice a step and solved once more at the answer, not at every secant evaluation.
-    // Their forces also drive a copy of the body's modes of their own: the body is linear, so
-    // partPressure() is their share of pressure() (split = count: none, and the copy is not stepped).
+    // prediction. The strings from `split` on (the sympathetic strings) drive a copy of the body's
+    // modes of their own: the body is linear, so partPressure() is their share of pressure() (split =
+    // count: none, and the copy is not stepped). Where every contact point of theirs is a spring
+    // (standsOnSprings), their force is affine in the bridge's displacement: measured twice a step and
+    // solved once more at the answer, not at every secant evaluation. Where one can leave a point (a
+    // sympathetic string's jawari), they are solved with the played strings.
     void step(ModalSolver* const* strings, int count, int split);
     void step(ModalSolver* const* strings, int count) { step(strings, count, count); }
 
@@ -119,9 +120,10 @@ private:
     std::array<double, 2> pressure_{}, partPressure_{};     // per channel (Pa)
     double partForce_ = 0.0;                                // the strings' after split_
     int listeners_ = 1;  // the body's
-    double playedForce_ = 0.0;                      // the strings' before split_, at the last evaluation
+    double playedForce_ = 0.0;  // the strings' before linearFrom_, at the last evaluation
     double linearForce_ = 0.0, linearSlope_ = 0.0, linearAt_ = 0.0;  // the affine fit: F, dF/dW at W
     int split_ = 0, count_ = 0;
+    int linearFrom_ = 0;  // split_ if every string after it stands on springs (affine in W), else count_
     bool oneWay_ = false;
     double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0, trials_ = 0;

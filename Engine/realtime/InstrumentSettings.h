@@ -97,6 +97,9 @@ struct InstrumentStructure
     // The sitar's sympathetic strings on the body (SympatheticStrings.h): 0 (none) to
     // kMaxSympatheticStrings, never plucked, tuned by InstrumentControls. Only with a body.
     int sympatheticStrings = 0;
+    // Their jawari (SympatheticStrings.h): each grazes a point of its bridge's curved top and buzzes
+    // on it. Off: they rest on their bridges' springs alone (linear, cheaper).
+    bool sympatheticJawari = false;
 
     bool operator==(const InstrumentStructure&) const = default;
 };

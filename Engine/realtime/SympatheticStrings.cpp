@@ -35,6 +35,18 @@ Obstacle sympatheticBridge(double lengthMetres)
     return bridge;
 }
 
+Obstacle sympatheticJawari(double lengthMetres)
+{
+    Obstacle jawari;
+    jawari.type = ObstacleType::point;
+    jawari.position = sympatheticBridge(lengthMetres).position + kSympatheticJawariDistance;
+    jawari.height = 0.0;
+    jawari.width = 1e-3;
+    jawari.law.exponent = 1.5;
+    jawari.law.stiffness = 1e12;
+    return jawari;
+}
+
 namespace
 {
 // The first mode on its bridge's spring (SpringLoadedModes.h) of the voice `config` builds, its
@@ -61,16 +73,18 @@ StringParameters sympatheticStringAt(double hz)
     return string;
 }
 
-VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateHz)
+VoiceConfig sympatheticVoiceConfig(const VoiceQuality& quality, double hostRateHz, bool jawari)
 {
     VoiceConfig config;
     config.string = sympatheticString();
     const double L = config.string.lengthMetres;
     config.obstacles = {sympatheticBridge(L)};
+    if (jawari)
+        config.obstacles.push_back(sympatheticJawari(L));
     config.excitationPosition = 0.5 * L;
     config.pickupPosition = 0.9 * L;
     config.quantity = PickupQuantity::velocity;
-    config.modes = kSympatheticModes;
+    config.modes = jawari ? kSympatheticJawariModes : kSympatheticModes;
     config.oversampling = quality.oversampling;
     config.hostRateHz = hostRateHz;
     config.method = ContactMethod::energyConserving;
@@ -115,12 +129,16 @@ void addSympatheticStrings(VoicePack& pack, const VoiceQuality& quality)
     const int count = std::clamp(pack.structure.sympatheticStrings, 0, kMaxSympatheticStrings);
     if (!pack.body || count == 0)
         return;
-    const VoiceConfig config = sympatheticVoiceConfig(quality, pack.structure.hostRateHz);
+    const bool jawari = pack.structure.sympatheticJawari;
+    const VoiceConfig config = sympatheticVoiceConfig(quality, pack.structure.hostRateHz, jawari);
     const ModalSolverConfig solverConfig = voiceSolverConfig(config);
     for (int k = 0; k < count; ++k)
     {
         pack.sympathetic.push_back(std::make_unique<Voice>(config, solverConfig));
-        pack.body->checkLinear(pack.sympathetic.back()->solver());
+        if (jawari)
+            pack.body->check(pack.sympathetic.back()->solver());
+        else
+            pack.body->checkLinear(pack.sympathetic.back()->solver());
     }
     pack.sympatheticRetuner = StringRetuner(config.string, solverConfig.modes.size());
     // The pitch it sounds on its bridge's spring (SpringLoadedModes.h), which the tunings aim at.

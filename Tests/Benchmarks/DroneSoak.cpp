@@ -19,6 +19,7 @@
 //               [--body none|tanpura] (the body; default: the preset's)
 //               [--sympathetic N] (the sympathetic strings on the body, 0..13; default: the preset's)
 //               [--one-way 0|1]   (1: the body driven one way, the strings on rigid supports; default 0)
+//               [--sympathetic-jawari 0|1] (1: the sympathetic strings on their jawari; default: the preset's)
 
 #include "BlockLoad.h"
 #include "offline/CpuClock.h"
@@ -39,11 +40,13 @@ int main(int argc, char* argv[])
     juce::ScopedJuceInitialiser_GUI juce;
     double minutes = 60.0, rate = 48000.0;
     double replay = 0.0;
-    int block = 512, quality = 1, polyphony = 0, drone = 1, secondCore = 0, polarisations = 1, sympathetic = -1, oneWay = 0;
+    int block = 512, quality = 1, polyphony = 0, drone = 1, secondCore = 0, polarisations = 1, sympathetic = -1,
+        oneWay = 0, sympatheticJawari = -1;
     std::string preset = "Tanpura drone", csv, body;
     const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
                         "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME] [--replay S] [--csv FILE] "
-                        "[--second-core 0|1] [--polarisations 1|2] [--body none|tanpura] [--sympathetic N] [--one-way 0|1]\n";
+                        "[--second-core 0|1] [--polarisations 1|2] [--body none|tanpura] [--sympathetic N] [--one-way "
+                        "0|1] [--sympathetic-jawari 0|1]\n";
     for (int i = 1; i < argc; i += 2)
     {
         const std::string key = argv[i];
@@ -82,6 +85,8 @@ int main(int argc, char* argv[])
                 body = value;
             else if (key == "--one-way")
                 oneWay = std::stoi(value) != 0 ? 1 : 0;
+            else if (key == "--sympathetic-jawari")
+                sympatheticJawari = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--sympathetic")
                 sympathetic = std::clamp(std::stoi(value), 0, jawari::kMaxSympatheticStrings);
             else if (key == "--polarisations" && (value == "1" || value == "2"))
@@ -127,6 +132,8 @@ int main(int argc, char* argv[])
         set(jawari::plugin::ids::body, body == "tanpura" ? 1.0f : 0.0f);
     if (sympathetic >= 0)
         set(jawari::plugin::ids::sympathetic, float(sympathetic));
+    if (sympatheticJawari >= 0)
+        set(jawari::plugin::ids::sympatheticJawari, float(sympatheticJawari));
     p.setBodyOneWayForTesting(oneWay != 0);
     p.prepareToPlay(rate, block);
     if (!p.waitForBuilds(120000))
