@@ -138,8 +138,8 @@ run_seed() {
     if [ $status -eq 0 ] && grep -qx "SUCCESS" "$log"; then
         line=$(report pluginval PASS "seed $seed: SUCCESS, $groups test groups, $seconds s")
     elif [ $status -eq 0 ] && ! first_failure "$log" > /dev/null \
-        && tail -n 1 "$log" | grep -q "^Completed tests in pluginval / "; then
-        # Some pluginval builds end without a SUCCESS line: exit 0, no failure, the last group completed.
+        && [ "$groups" -gt 0 ] && [ "$(grep -c "^Completed tests in:\{0,1\} pluginval" "$log")" -eq "$groups" ]; then
+        # Some pluginval builds end without a SUCCESS line: exit 0, no failure, every group completed.
         line=$(report pluginval PASS "seed $seed: exit 0, $groups test groups completed, no failure line, $seconds s")
     else
         failure=$(first_failure "$log") || failure="no failure line; last: $(tail -n 1 "$log")"

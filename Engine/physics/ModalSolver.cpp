@@ -89,11 +89,12 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         s_[j] = sOnBridge(j, before);
         b_[j] = bOnBridge(j, move);
     }
-    if (springTrialPresser_ >= -1 && before == trialBefore_ && move == trialMove_)
+    if (springPoint_ >= 0 && springTrialPresser_ >= -1 && before == trialBefore_ && move == trialMove_)
     {
-        // The step's last trial was this string's solve: the spring and its other point.
+        // The step's last trial was this string's solve: the spring and its other point. Kept once.
         system_.recordSpringTrial(springPoint_, springTrialPresser_, springTrial_, r_.data(), slope_.data());
         lastIterations_ += springTrial_.a.iterations;
+        trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();
     }
     else if (P_ == 1 && before == trialBefore_ && move == trialMove_)
     {
@@ -384,7 +385,8 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
         splines_[size_t(j)].setLaw(law);
 }
 
-// springPoint_: the one bilateral point of a string solved by the energy-conserving method, else -1.
+// springPoint_: the one bilateral point of a string solved by the energy-conserving method with
+// coupled points, else -1.
 void ModalSolver::findSpringPoint()
 {
     springPoint_ = -1;
@@ -395,7 +397,8 @@ void ModalSolver::findSpringPoint()
             springPoint_ = j;
             ++springs;
         }
-    if (springs != 1 || method_ != ContactMethod::energyConserving)
+    // A diagonal system (the reference grid) is solved point by point, not by the Schur complement.
+    if (springs != 1 || method_ != ContactMethod::energyConserving || system_.isDiagonal())
         springPoint_ = -1;
 }
 

@@ -133,8 +133,9 @@ public:
     // equation, the others off): a trial for the caller's iteration, nothing solved or kept. 0 if no
     // point pressed; NaN if two did (then only a solve tells). A string with one point: its scalar
     // equation, which is its solve, whatever it did before. A string held by one spring (a bilateral
-    // point, energy-conserving method): the spring with its one presser (trialWithSpring); with two
-    // points that is its solve too. `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
+    // point, energy-conserving method, coupled points): the spring with its one presser, or alone
+    // (trialWithSpring); with two points that is the root its solve finds, and the solve at the same
+    // bridge keeps it. `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
     double trialOnMovingBridge(double before, double move, double* slope = nullptr) const;
     // RT, on a moving bridge, before predictOnMovingBridge(): the live points for a string whose
     // energy stays at most H while its bridge rises by at most `rise` (m; ContactReach::refresh), or
@@ -339,7 +340,7 @@ private:
     ContactReach reach_;         // the points the step takes
     // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
     std::vector<int> pressing_;
-    int springPoint_ = -1;  // the one bilateral point (energy-conserving method), else -1: findSpringPoint()
+    int springPoint_ = -1;  // the one bilateral point (energy-conserving, coupled), else -1: findSpringPoint()
     // A one-point string's last trial of the step (trialOnMovingBridge) and where it was posed: a
     // solve at the same place takes it (NaN: none yet).
     mutable ScalarContactSolution trial_;

@@ -134,7 +134,8 @@ double SharedBody::trialForce(ModalSolver* const* strings, int from, int to, dou
     return force;
 }
 
-// The played strings' force at W, solved: playedForce_.
+// The force at W of the strings solved at every evaluation, solved: playedForce_ (the played
+// strings, and those after split when they are not linear, whose share is partForce_).
 double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
 {
     playedForce_ = solveForce(strings, 0, split_, before, bridge);
@@ -326,6 +327,8 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     for (int i = split; i < count && linearFrom_ < count; ++i)
         if (!standsOnSprings(*strings[i]))
             linearFrom_ = count;  // one of them can leave a point: each is solved at every evaluation
+    if (linearFrom_ == count)
+        linearForce_ = linearSlope_ = linearAt_ = 0.0;  // no affine part: none in the first W
     // One way, the strings' bridge stands still: their solve once, with it at rest.
     const double before = oneWay_ ? 0.0 : bridgeBefore_;
     double bridge = oneWay_ ? 0.0 : solveBridge(strings, before, predicted);

@@ -8,8 +8,9 @@
 // obstacle raised by w^{n-1} at n-1 and by W at n+1; their solution pushes the body with
 // F(W) = sum_i sum_j w_j G_j. The body's modes then reach z^{n+1} = a z^n - e z^{n-1} + (dt^2 kappa / m_k) F,
 // so W = w~ + beta F(W), beta = dt^2 kappa^2 sum_k 1/m_k. A step solves that one scalar equation by
-// the secant method: first on trials, each played string's force from the one point that pressed at
-// its last step, alone (a scalar equation, nothing kept), then on contact solves of every string
+// the secant method: first on trials, each string's force from the one point that pressed at its
+// last step, alone (a scalar equation, nothing kept; with its spring, where it has one), then on
+// contact solves of every string
 // with the bridge at W (the modes' pass runs once), from the trials' answer: most steps press where
 // the last one did, and one solve confirms it. The joined solver's equations, solved to rounding,
 // so its energy balance. beta is small beside a string's own compliance at its points (a tanpura's
@@ -38,7 +39,7 @@ public:
     SharedBody(const ModalBody& body, double coupling, double timeStep);
     // OFF: checks that a string can stand on the body (throws std::invalid_argument naming why not).
     void check(const ModalSolver& string) const;
-    // OFF: check(), and every contact point a spring (bilateral): a string that may come after split.
+    // OFF: check(), and every contact point a spring (bilateral): a string whose force is affine in W.
     void checkLinear(const ModalSolver& string) const;
     // Whether every contact point of the string is a spring (bilateral).
     static bool standsOnSprings(const ModalSolver& string);
