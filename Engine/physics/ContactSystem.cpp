@@ -222,23 +222,9 @@ bool ContactSystem::solveOnePresser(const double* s, const double* b, double* r,
 bool ContactSystem::solveWithBilateral(int t, int a, const double* s, const double* b, double* r, double* slope,
                                        int& iterations)
 {
-    const ChordSlope thread = chordSlope(points_[size_t(t)].law, s[t], 0.0);
-    const double g0 = thread.value, c = thread.derivative;
-    const double stiffen = 1.0 + A_(t, t) * c;
-    const double G0 = (g0 + c * b[t]) / stiffen;
-    const double Ata = a >= 0 ? A_(t, a) : 0.0;
-    ScalarContactSolution sol;  // a's, its slope 0 without a
-    if (a >= 0)
-    {
-        const double gamma = -c * Ata / stiffen;
-        sol = solveScalarContact(points_[size_t(a)].law, s[a], b[a] - A_(a, t) * G0, A_(a, a) + A_(a, t) * gamma,
-                                 &series_[size_t(a)], &known_[size_t(a)][1]);
-    }
-    // What a's force does at point i (nothing without a).
-    auto fromA = [&](int i) { return a >= 0 ? A_(i, a) * sol.slope : 0.0; };
-    const double Gt = G0 - c * Ata / stiffen * sol.slope;
-    const double rt = (b[t] - A_(t, t) * g0 - fromA(t)) / stiffen;
-    auto moved = [&](int i) { return b[i] - fromA(i) - A_(i, t) * Gt; };
+    const SpringTrial solved = trialWithSpring(t, a, s[t], b[t], a >= 0 ? s[a] : 0.0, a >= 0 ? b[a] : 0.0, false);
+    // Point i moved by a's force (nothing without a) and the spring's.
+    auto moved = [&](int i) { return b[i] - (a >= 0 ? A_(i, a) * solved.Ga : 0.0) - A_(i, t) * solved.Gt; };
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];
@@ -251,17 +237,16 @@ bool ContactSystem::solveWithBilateral(int t, int a, const double* s, const doub
         if (i != a && i != t)
             record(i, moved(i), 0.0, KnownPower{}, r, slope);
     }
-    if (a >= 0)
-        record(a, sol.r, sol.slope, sol.penetration, r, slope);
-    record(t, rt, Gt, KnownPower{}, r, slope);
-    iterations = sol.iterations;
+    recordSpringTrial(t, a, solved, r, slope);
+    iterations = solved.a.iterations;
     return true;
 }
 
-// With both b rising by one: G0 by c / stiffen, a's b' by 1 - A_at c / stiffen, so r_a by
-// db' / (1 + k' G_a'), G_a by G_a' dr_a, and G_t = G0 + gamma G_a by dG0 + gamma dG_a.
-ContactSystem::SpringTrial ContactSystem::trialWithSpring(int t, int a, double st, double bt, double sa,
-                                                          double ba) const
+// The Schur complement above. Its derivatives, with both b rising by one: G0 by c / stiffen, a's b'
+// by 1 - A_at c / stiffen, so r_a by db' / (1 + k' G_a'), G_a by G_a' dr_a, and G_t = G0 + gamma G_a
+// by dG0 + gamma dG_a.
+ContactSystem::SpringTrial ContactSystem::trialWithSpring(int t, int a, double st, double bt, double sa, double ba,
+                                                          bool derivatives) const
 {
     const ChordSlope thread = chordSlope(points_[size_t(t)].law, st, 0.0);
     const double g0 = thread.value, c = thread.derivative;
@@ -276,12 +261,15 @@ ContactSystem::SpringTrial ContactSystem::trialWithSpring(int t, int a, double s
     const double k = A_(a, a) + A_(a, t) * gamma;
     const ScalarContactSolution sol = solveScalarContact(points_[size_t(a)].law, sa, ba - A_(a, t) * out.Gt, k,
                                                          &series_[size_t(a)], &known_[size_t(a)][1]);
-    const double dGa = chordSlopeDerivative(points_[size_t(a)].law, sa, sol);
     out.a = sol;
     out.Ga = sol.slope;
-    out.dGa = dGa * (1.0 - A_(a, t) * out.dGt) / (1.0 + k * dGa);
+    if (derivatives)
+    {
+        const double dGa = chordSlopeDerivative(points_[size_t(a)].law, sa, sol);
+        out.dGa = dGa * (1.0 - A_(a, t) * out.dGt) / (1.0 + k * dGa);
+        out.dGt += gamma * out.dGa;
+    }
     out.Gt += gamma * out.Ga;
-    out.dGt += gamma * out.dGa;
     out.rt = (bt - A_(t, t) * g0 - A_(t, a) * sol.slope) / stiffen;
     return out;
 }

@@ -57,14 +57,16 @@ public:
 
     // RT: solveWithBilateral's equations for the bilateral point t and the point a that can touch (-1:
     // none), every other point's force 0, nothing kept (a caller's trial, as solveAlone): G_t, G_a, and
-    // their derivatives as b_t and b_a rise together (dG/db; NaN where G_a' has no closed form).
+    // with `derivatives` theirs as b_t and b_a rise together (dG/db; NaN where G_a' has no closed
+    // form; 0 without).
     struct SpringTrial
     {
         double Gt = 0.0, Ga = 0.0, dGt = 0.0, dGa = 0.0;
         double rt = 0.0;
         ScalarContactSolution a;  // the point's (r = b, G = 0 without one)
     };
-    SpringTrial trialWithSpring(int t, int a, double st, double bt, double sa, double ba) const;
+    SpringTrial trialWithSpring(int t, int a, double st, double bt, double sa, double ba,
+                                bool derivatives = true) const;
     // RT: that trial kept as solveWithBilateral keeps its solution (r, G and their history), for a
     // caller whose solve it is: a string with the spring and the one point, both listed (a < 0: the
     // spring alone listed).
