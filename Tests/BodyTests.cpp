@@ -487,6 +487,7 @@ TEST_CASE("The Sitar's string, the body and 13 sympathetic strings: the discrete
     // sitar-bridge's string on its bridge at 300 modes and 2 MHz (its own converged configuration
     // would take minutes), its sympathetic strings tuned to Kafi from Sa at 138.59 Hz, each on its
     // bridge's spring (SympatheticStrings.h), and then on its jawari too.
+    std::vector<double> contactWithout;  // the lossless run's contact energy without the jawari, J
     for (const bool jawari : {false, true})
         for (const bool lossless : {true, false})
         {
@@ -514,6 +515,22 @@ TEST_CASE("The Sitar's string, the body and 13 sympathetic strings: the discrete
                 CHECK(drift < 1e-9);
             else
                 CHECK(rise < 1e-12);
+            if (!lossless)
+                continue;
+            // A jawari that no string pressed would leave every force, and so the contact energy, as
+            // without it: the largest difference shows that they rang against it.
+            double moved = 0.0;
+            for (size_t i = 0; i < result.energy.size(); ++i)
+                if (!jawari)
+                    contactWithout.push_back(result.energy[i].contactEnergy);
+                else if (i < contactWithout.size())
+                    moved = std::max(moved, std::abs(result.energy[i].contactEnergy - contactWithout[i]));
+            if (jawari)
+            {
+                INFO("the contact energy moved by up to " << moved / result.stats.initialEnergy
+                                                          << " of the energy with the jawari");
+                CHECK(moved > 1e-7 * result.stats.initialEnergy);
+            }
         }
 }
 
@@ -597,11 +614,14 @@ struct SharedAgainstJoined
     int pressingSteps = 0, mostEvaluations = 0;
     long evaluations = 0;  // contact solves in all
     long jawariSteps = 0;  // steps of a sympathetic string pressing its jawari (summed over them)
+    // Steps whose last solve took the step's last trial (ModalSolver::lastSolveWasTrial), summed over
+    // the played strings and over the sympathetic ones.
+    long playedSolvesByTrial = 0, sympatheticSolvesByTrial = 0;
 };
 
 // `count` sympathetic strings tuned to Kafi from 200 Hz, M modes: linear (their bridges are springs),
-// or on their jawari too.
-std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate, bool jawari)
+// or on their jawari too; their points out of reach left out or not.
+std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate, bool jawari, bool reach)
 {
     std::vector<ModalSolverConfig> configs;
     for (int k = 0; k < count; ++k)
@@ -612,13 +632,13 @@ std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate,
             bridge.push_back(sympatheticJawari(string.lengthMetres));
         configs.push_back(
             stringSolverConfig(string, bridge, M, rate, 0.9 * string.lengthMetres, PickupQuantity::displacement));
-        configs.back().leaveOutOfReach = false;
+        configs.back().leaveOutOfReach = reach;
     }
     return configs;
 }
 
 SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M, int sympathetic = 0, int steps = 7000,
-                                        bool jawari = false)
+                                        bool jawari = false, bool reach = false)
 {
     const double rate = 192000.0;
     auto configOf = [&](const Scene& s) {
@@ -632,7 +652,7 @@ SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M,
     };
     const ModalBody body = *factoryBody("tanpura");
 
-    const auto linear = sympatheticConfigs(sympathetic, M, rate, jawari);  // at rest, after the two
+    const auto linear = sympatheticConfigs(sympathetic, M, rate, jawari, false);  // at rest, after the two
     auto joinedConfig = first;
     auto quiet = second;
     quiet.pickupWeights.clear();
@@ -656,7 +676,8 @@ SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M,
     SharedBody shared(body, 1.0, a.timeStep());
     shared.check(a);
     shared.check(b);
-    std::vector<ModalSolver> tarafs(linear.begin(), linear.end());
+    const auto tarafConfigs = sympatheticConfigs(sympathetic, M, rate, jawari, reach);
+    std::vector<ModalSolver> tarafs(tarafConfigs.begin(), tarafConfigs.end());
     std::vector<ModalSolver*> strings = {&a, &b};
     for (auto& t : tarafs)
     {
@@ -678,8 +699,12 @@ SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M,
         result.pressingSteps += shared.lastBridgeForce() != 0.0;
         result.mostEvaluations = std::max(result.mostEvaluations, shared.lastEvaluations());
         result.evaluations += shared.lastEvaluations();
+        result.playedSolvesByTrial += a.lastSolveWasTrial() + b.lastSolveWasTrial();
         for (const auto& t : tarafs)
+        {
             result.jawariSteps += t.contactCount() > 1 && t.contactForce(1) != 0.0;
+            result.sympatheticSolvesByTrial += t.lastSolveWasTrial();
+        }
     }
     result.largest /= peak;
     return result;
@@ -726,4 +751,18 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     CHECK(j.jawariSteps > 1000);
     CHECK(j.largest < 1e-9);
     CHECK(j.evaluations < 1.6 * 4000);
+    // Each of them takes its last trial, the Schur complement of its spring and its jawari, as its
+    // solve (ModalSolver::trialWithSpring) in most steps.
+    INFO(j.sympatheticSolvesByTrial << " of " << 3 * 4000 << " sympathetic strings' steps solved by their trial, "
+                                    << j.playedSolvesByTrial << " of " << 2 * 4000 << " played strings' steps");
+    CHECK(j.sympatheticSolvesByTrial > 0.9 * 3 * 4000);
+    // The same with their points out of reach left out (ContactReach), as the plugin runs them: a
+    // jawari at the string's rest height is always within reach, so the reach's bookkeeping must leave
+    // the motion the joined solver's.
+    const auto reached =
+        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000, true, true);
+    INFO("with their points out of reach left out: largest difference " << reached.largest << ", "
+                                                                        << reached.jawariSteps << " steps on a jawari");
+    CHECK(reached.jawariSteps == j.jawariSteps);
+    CHECK(reached.largest < 1e-9);
 }

@@ -34,12 +34,33 @@ inline Outcome render(const std::string& arguments)
     return o;
 }
 
-// A folder of this test run's own.
+// A folder of this test run's own, removed with everything in it when the test program exits.
+class ScratchFolder
+{
+public:
+    ScratchFolder()
+        : dir_(std::filesystem::temp_directory_path() / ("jawari-cli-" + std::to_string(::getpid())))
+    {
+        std::filesystem::create_directories(dir_);
+    }
+    ~ScratchFolder()
+    {
+        std::error_code ignored;  // a folder that cannot be removed is left, never a throw at exit
+        std::filesystem::remove_all(dir_, ignored);
+    }
+    ScratchFolder(const ScratchFolder&) = delete;
+    ScratchFolder& operator=(const ScratchFolder&) = delete;
+    const std::filesystem::path& path() const { return dir_; }
+
+private:
+    std::filesystem::path dir_;
+};
+
 inline std::filesystem::path scratch()
 {
-    auto dir = std::filesystem::temp_directory_path() / ("jawari-cli-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return dir;
+    static const ScratchFolder folder;
+    std::filesystem::create_directories(folder.path());  // a test may have emptied it
+    return folder.path();
 }
 
 inline std::string write(const std::filesystem::path& path, const std::string& text)

@@ -80,6 +80,7 @@ void ModalSolver::predictOnMovingBridge()
 double ModalSolver::solveOnMovingBridge(double before, double move)
 {
     pressing_.clear();
+    lastSolveWasTrial_ = false;
     if (P_ == 0)
         return 0.0;
     const int* rows = reach_.liveRows();
@@ -95,6 +96,7 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         system_.recordSpringTrial(springPoint_, springTrialPresser_, springTrial_, r_.data(), slope_.data());
         lastIterations_ += springTrial_.a.iterations;
         trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();
+        lastSolveWasTrial_ = true;
     }
     else if (P_ == 1 && before == trialBefore_ && move == trialMove_)
     {
@@ -105,6 +107,7 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         if (method_ == ContactMethod::energyConserving)
             system_.recordScalar(0, trial_);
         lastIterations_ += trial_.iterations;
+        lastSolveWasTrial_ = true;
     }
     else
         lastIterations_ += solveContacts();

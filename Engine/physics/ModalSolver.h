@@ -228,6 +228,8 @@ public:
     double pickup() const { return pickups_[0].value; }              // RT: sum h_p q_p^n
     double secondPickup() const { return pickups_[1].value; }        // RT: the second pickup's, 0 without one
     int lastIterations() const { return lastIterations_; }          // RT: contact solve of the last step
+    // RT: whether the last solveOnMovingBridge took the step's last trial as its solve (no solve of its own).
+    bool lastSolveWasTrial() const { return lastSolveWasTrial_; }
     // RT: the force (N) the last step's contact put on the string at point j, -w_j G_j (> 0 pushes it up).
     double contactForce(int j) const { return -contacts_[size_t(j)].weight * slope_[size_t(j)]; }
     // RT: max_j g_j - u_j^n (m) over the unilateral points
@@ -336,6 +338,7 @@ private:
     std::vector<ContactPoint> contacts_;
     OwnedGridTransform transform_;
     int lastIterations_ = 0;
+    bool lastSolveWasTrial_ = false;
     double lastPenetration_ = 0.0;
     ContactReach reach_;         // the points the step takes
     // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
