@@ -8,8 +8,8 @@ namespace jawari::plugin
 const std::vector<FactoryPreset>& factoryPresets()
 {
     // Positions are fractions of the string's length (the paper's 0.501 m and 0.992 m on 1.002 m).
-    // The tanpura and sitar presets play through the tanpura's body (the sitar's top is of the same
-    // wood and build), the tanpura's plucked softly, as a finger does.
+    // The tanpura presets play through the tanpura's body, plucked softly, as a finger does; the sitar
+    // presets through the sitar's (the same wood and build at a sitar's size).
     // The sitar's played string on its bridge, and its thirteen sympathetic strings, tuned to Kafi.
     static const std::vector<std::pair<const char*, float>> sitar = {{ids::stringType, 1.0f},
           {ids::obstacleShape, 1.0f},
@@ -22,7 +22,7 @@ const std::vector<FactoryPreset>& factoryPresets()
           {ids::inharmonicity, 1.0e-5f},
           {ids::pluckPosition, 0.2f},
           {ids::pickupPosition, 0.95f},
-          {ids::body, 1.0f},
+          {ids::body, 2.0f},
           {ids::sympathetic, 13.0f}};
     static const auto sitarSaPa = [] {
         auto values = sitar;

@@ -333,7 +333,7 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
     CHECK(choicesOf(ids::quality) == juce::StringArray{"draft", "standard", "high", "paper"});
     CHECK(choicesOf(ids::method)
           == juce::StringArray{"energy-conserving", "quadratised", "penalty", "quadratic spline"});
-    CHECK(choicesOf(ids::body) == juce::StringArray{"none", "tanpura"});
+    CHECK(choicesOf(ids::body) == juce::StringArray{"none", "tanpura", "sitar"});
     CHECK(choicesOf(ids::pluckStyle) == juce::StringArray{"sharp", "soft"});
 
     // The defaults as the player sees them: the engine's InstrumentControls and InstrumentStructure

@@ -264,18 +264,49 @@ const PlateBodyRecipe& tanpuraBodyRecipe()
     return recipe;
 }
 
+const PlateBodyRecipe& sitarBodyRecipe()
+{
+    static const PlateBodyRecipe recipe = [] {
+        // A sitar's tabli: the tanpura's toon plate and its assumed 4 mm, 0.32 m across (the median
+        // width of three sitars in the MINIM-UK collection, 245, 320 and 380 mm; the tabli is at most
+        // the instrument's width). A plate of the same wood and thickness has its modes at frequencies
+        // in inverse proportion to its area, so the tanpura's first mode and its measured response's
+        // bands move up by the ratio of the areas (docs/design.md section 1, "The sitar's body": no
+        // sitar's response is published); the bands beyond the modes' 13 kHz are left out.
+        const auto& tanpura = tanpuraBodyRecipe();
+        PlateBodyRecipe r = tanpura;
+        r.name = "sitar";
+        r.areaM2 = std::numbers::pi * 0.16 * 0.16;
+        const double scale = tanpura.areaM2 / r.areaM2;
+        r.lowestHz = tanpura.lowestHz * scale;
+        r.bands.clear();
+        for (const auto& band : tanpura.bands)
+            if (band.highHz * scale <= r.highestHz)
+                r.bands.push_back({band.lowHz * scale, band.highHz * scale, band.levelDb});
+        return r;
+    }();
+    return recipe;
+}
+
 std::optional<ModalBody> factoryBody(const std::string& name)
 {
-    // Fitted once per process (its three listeners' fits take about 0.17 s), then copied.
-    static const ModalBody tanpura = plateBody(tanpuraBodyRecipe());
+    // Fitted once per process (the tanpura's three listeners' fits take about 0.17 s), then copied.
     if (name == "tanpura")
+    {
+        static const ModalBody tanpura = plateBody(tanpuraBodyRecipe());
         return tanpura;
+    }
+    if (name == "sitar")
+    {
+        static const ModalBody sitar = plateBody(sitarBodyRecipe());
+        return sitar;
+    }
     return std::nullopt;
 }
 
 std::vector<const char*> factoryBodyNames()
 {
-    return {"tanpura"};
+    return {"tanpura", "sitar"};
 }
 
 }  // namespace jawari

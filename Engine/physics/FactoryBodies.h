@@ -74,7 +74,11 @@ double directionCorrelation(double frequencyHz, double radiusMetres, double sine
 // The tanpura's: DAFx-16's measured response (van Walstijn, Bridges & Mehes, their Fig. 5).
 const PlateBodyRecipe& tanpuraBodyRecipe();
 
-// A factory body by name ("tanpura"), or none for an unknown name. Thread-safe: each is built once.
+// The sitar's: the tanpura's plate at a sitar's size, its response the tanpura's with its frequencies
+// scaled as the plate's modes are (see sitarBodyRecipe in the .cpp).
+const PlateBodyRecipe& sitarBodyRecipe();
+
+// A factory body by name ("tanpura", "sitar"), or none for an unknown name. Thread-safe: each is built once.
 std::optional<ModalBody> factoryBody(const std::string& name);
 std::vector<const char*> factoryBodyNames();
 

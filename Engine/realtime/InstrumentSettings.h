@@ -45,9 +45,10 @@ enum class ObstacleShape
 enum class BodyChoice
 {
     none,
-    tanpura
+    tanpura,
+    sitar
 };
-inline constexpr const char* kBodyNames[] = {"none", "tanpura"};
+inline constexpr const char* kBodyNames[] = {"none", "tanpura", "sitar"};
 
 // How a note plucks its string: a 1.5 ms pulse at the pluck point (a plectrum's flick), or DAFx-16's
 // push, which rises over 50 ms and lets go abruptly, spread over half the string (a finger's; through a

@@ -16,7 +16,7 @@
 //               [--second-core 0|1] (the plugin's "use a second core"; default 0. With it the audio
 //                                  thread's CPU time leaves out the worker's: read the wall time)
 //               [--polarisations 1|2] (the strings' polarisations; default 1)
-//               [--body none|tanpura] (the body; default: the preset's)
+//               [--body none|tanpura|sitar] (the body; default: the preset's)
 //               [--sympathetic N] (the sympathetic strings on the body, 0..13; default: the preset's)
 //               [--one-way 0|1]   (1: the body driven one way, the strings on rigid supports; default 0)
 //               [--sympathetic-jawari 0|1] (1: the sympathetic strings on their jawari; default: the preset's)
@@ -45,7 +45,7 @@ int main(int argc, char* argv[])
     std::string preset = "Tanpura drone", csv, body;
     const char* usage = "usage: jawari-soak [--minutes 60] [--quality draft|standard|high] [--rate 48000] "
                         "[--block 512] [--polyphony N] [--drone 0|1] [--preset NAME] [--replay S] [--csv FILE] "
-                        "[--second-core 0|1] [--polarisations 1|2] [--body none|tanpura] [--sympathetic N] [--one-way "
+                        "[--second-core 0|1] [--polarisations 1|2] [--body none|tanpura|sitar] [--sympathetic N] [--one-way "
                         "0|1] [--sympathetic-jawari 0|1]\n";
     for (int i = 1; i < argc; i += 2)
     {
@@ -81,7 +81,7 @@ int main(int argc, char* argv[])
                 drone = std::stoi(value) != 0 ? 1 : 0;
             else if (key == "--second-core")
                 secondCore = std::stoi(value) != 0 ? 1 : 0;
-            else if (key == "--body" && (value == "none" || value == "tanpura"))
+            else if (key == "--body" && (value == "none" || value == "tanpura" || value == "sitar"))
                 body = value;
             else if (key == "--one-way")
                 oneWay = std::stoi(value) != 0 ? 1 : 0;
@@ -129,7 +129,7 @@ int main(int argc, char* argv[])
     set(jawari::plugin::ids::secondCore, float(secondCore));
     set(jawari::plugin::ids::polarisations, float(polarisations - 1));
     if (!body.empty())
-        set(jawari::plugin::ids::body, body == "tanpura" ? 1.0f : 0.0f);
+        set(jawari::plugin::ids::body, body == "sitar" ? 2.0f : body == "tanpura" ? 1.0f : 0.0f);
     if (sympathetic >= 0)
         set(jawari::plugin::ids::sympathetic, float(sympathetic));
     if (sympatheticJawari >= 0)
