@@ -331,6 +331,10 @@ TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]"
     CHECK(scene.body->obstacles == std::vector<int>{0});
     CHECK(scene.body->body.modes.size() == factoryBody("tanpura")->modes.size());
     CHECK(scene.body->body.modes[3].sigma == Approx(0.5 * factoryBody("tanpura")->modes[3].sigma));
+    const auto sitar = parseScene(head + R"("body": {"model": "sitar"}, "pickup": {"quantity": "pressure"}})");
+    REQUIRE(sitar.body);
+    CHECK(sitar.body->body.name == "sitar");
+    CHECK(sitar.body->body.modes.size() == factoryBody("sitar")->modes.size());
     const auto listed = parseScene(head + R"("body": {"modes": [{"frequency": 200, "damping": 3, "mass": 0.2,
         "radiation": 0.01}], "obstacles": [], "coupling": 0.5}})");
     CHECK(listed.body->body.modes.size() == 1);
