@@ -6,13 +6,18 @@
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
 #include "physics/FactoryBodies.h"
+#include "physics/SharedBody.h"
 #include "physics/SpringLoadedModes.h"
+#include "physics/StringDiscretisation.h"
+#include "physics/StringModel.h"
 #include "realtime/Instrument.h"
+#include "realtime/SympatheticStrings.h"
 #include "realtime/VoicePack.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <numeric>
 #include <sstream>
 #include <vector>
 
@@ -383,4 +388,106 @@ TEST_CASE("On their jawari the sympathetic strings buzz: their share of the soun
                                                                << " with it out of reach ("
                                                                << 10.0 * std::log10(buzzing / apart) << " dB)");
     CHECK(buzzing > 1.5 * apart);
+}
+
+namespace
+{
+// Two identical taraf strings at 370 Hz on their bridges' springs on the tanpura body (16 modes each,
+// 192 kHz), the first plucked at 1 mm, for `seconds`: each string's first modal coordinate q_1 at
+// every step. With one string, the second's row is empty.
+struct UnisonRun
+{
+    std::vector<double> first, second;
+};
+
+UnisonRun unisonOnBody(int strings, double coupling, double seconds)
+{
+    const double rate = 192000.0;
+    const auto string = sympatheticStringAt(370.0);
+    auto config = stringSolverConfig(string, {sympatheticBridge(string.lengthMetres)}, kSympatheticModes, rate,
+                                     0.9 * string.lengthMetres, PickupQuantity::displacement);
+    config.pickupWeights.assign(config.pickupWeights.size(), 0.0);
+    config.pickupWeights[0] = 1.0;  // the pickup reads q_1
+    const std::vector<ModalSolverConfig> configs(size_t(strings), config);
+    std::vector<ModalSolver> solvers(configs.begin(), configs.end());
+    solvers[0].setInitialDisplacement(
+        pluckModalShape(string.lengthMetres, kSympatheticModes, 0.3 * string.lengthMetres, 1e-3));
+    SharedBody body(*factoryBody("tanpura"), coupling, solvers[0].timeStep());
+    std::vector<ModalSolver*> pointers;
+    for (auto& s : solvers)
+    {
+        body.checkLinear(s);
+        pointers.push_back(&s);
+    }
+    UnisonRun run;
+    for (long n = 0; n < long(seconds * rate); ++n)
+    {
+        body.step(pointers.data(), strings);
+        run.first.push_back(solvers[0].pickup());
+        if (strings > 1)
+            run.second.push_back(solvers[1].pickup());
+    }
+    return run;
+}
+
+// The decay rate (1/s) of x's envelope, the peak of |x| in each 10 ms, from a straight line fitted to
+// its logarithm over [from, to) seconds at 192 kHz.
+double decayRate(const std::vector<double>& x, double from, double to)
+{
+    const int window = 1920;
+    std::vector<double> t, y;
+    for (size_t start = size_t(from * 192000.0); start + window <= size_t(to * 192000.0); start += window)
+    {
+        double peak = 0.0;
+        for (size_t n = start; n < start + window; ++n)
+            peak = std::max(peak, std::abs(x[n]));
+        t.push_back((double(start) + 0.5 * window) / 192000.0);
+        y.push_back(std::log(peak));
+    }
+    const double n = double(t.size()), st = std::accumulate(t.begin(), t.end(), 0.0),
+                 sy = std::accumulate(y.begin(), y.end(), 0.0);
+    double stt = 0.0, sty = 0.0;
+    for (size_t i = 0; i < t.size(); ++i)
+    {
+        stt += t[i] * t[i];
+        sty += t[i] * y[i];
+    }
+    return -(n * sty - st * sy) / (n * stt - st * st);
+}
+}  // namespace
+
+TEST_CASE("Two unison strings on one body: their anti-phase motion never feels it and their in-phase motion "
+          "loses to it twice what one string alone does (Weinreich's coupled strings)",
+          "[sympathetic][body]")
+{
+    // Weinreich (JASA 62, 1977, "Coupled piano strings"): two strings on one bridge share it; the
+    // anti-phase mode puts no net force on it, so it decays at the strings' own rate (J. O. Smith,
+    // Physical Audio Signal Processing, "Coupled strings eigenanalysis": a point bridge is rigid to
+    // anti-phase motion), the in-phase mode at the rate of a string loaded by both: here, with the
+    // bridge's loss small beside the body's modal spacing, its own rate plus twice the one string's
+    // loss to the body. The first modal coordinate of each string, the first plucked.
+    const double seconds = 1.2;
+    const auto rigid = unisonOnBody(1, 0.0, seconds);  // on its spring, the body decoupled
+    const auto alone = unisonOnBody(1, 1.0, seconds);
+    const auto pair = unisonOnBody(2, 1.0, seconds);
+    std::vector<double> inPhase, antiPhase;
+    double largest = 0.0, peak = 0.0;
+    for (size_t n = 0; n < pair.first.size(); ++n)
+    {
+        inPhase.push_back(pair.first[n] + pair.second[n]);
+        antiPhase.push_back(pair.first[n] - pair.second[n]);
+        largest = std::max(largest, std::abs(antiPhase[n] - rigid.first[n]));
+        peak = std::max(peak, std::abs(rigid.first[n]));
+    }
+    const double own = decayRate(rigid.first, 0.1, seconds), one = decayRate(alone.first, 0.1, seconds),
+                 anti = decayRate(antiPhase, 0.1, seconds), in = decayRate(inPhase, 0.1, seconds);
+    INFO("decay rates (1/s): the string on rigid supports "
+         << own << ", alone on the body " << one << "; the pair's anti-phase motion " << anti << ", in-phase " << in
+         << " (expected " << own + 2.0 * (one - own)
+         << "); the anti-phase motion differs from the lone string "
+            "on rigid supports by "
+         << largest / peak << " of its peak");
+    CHECK(one - own > 0.2 * own);  // the body takes a share worth measuring
+    CHECK(largest < 1e-9 * peak);  // to rounding: the body never moves it
+    CHECK(in - own == Approx(2.0 * (one - own)).epsilon(0.2));
 }
