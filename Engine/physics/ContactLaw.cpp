@@ -343,6 +343,7 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         const ChordSlope atZero = bilateralSlope(law, s, 0.0);
         sol.r = (b - k * atZero.value) / (1.0 + k * atZero.derivative);
         sol.slope = bilateralSlope(law, s, sol.r).value;
+        sol.slopeDerivative = atZero.derivative;  // G is affine in r: its slope everywhere
         return sol;
     }
     if (s <= 0.0 && s - b <= 0.0)

@@ -147,14 +147,16 @@ double SharedBody::evaluate(ModalSolver* const* strings, double before, double b
     return playedForce_;
 }
 
-// Every point of a linear string is a spring, so its force is affine in W: measured at two
-// displacements (by trials where they are exact, else by solves), it needs no solve per secant
-// evaluation.
+// Every point of a linear string is a spring, so its force is affine in W: measured at one
+// displacement with its slope in closed form by trials where they are exact (else at two, by
+// solves), it needs no solve per secant evaluation.
 void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at)
 {
     constexpr double kStep = 1e-9;  // m: any step measures an affine force; this one keeps rounding small
     linearAt_ = at;
-    linearForce_ = trialForce(strings, linearFrom_, count_, before, at);
+    linearForce_ = trialForce(strings, linearFrom_, count_, before, at, &linearSlope_);
+    if (std::isfinite(linearForce_) && std::isfinite(linearSlope_))
+        return;
     const bool byTrials = std::isfinite(linearForce_);
     auto force = [&](double w) {
         return byTrials ? trialForce(strings, linearFrom_, count_, before, w)
