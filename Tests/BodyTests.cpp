@@ -756,7 +756,7 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     }
     // With three sympathetic strings after them, whose force the secant takes from its affine fit.
     // They couple the two more strongly, and rounding's differences grow faster: 6e-15 of the peak by
-    // step 500, 1.3e-11 by 4000, 2.2e-8 by 6500. So 4000 steps.
+    // step 500, about 2e-11 by 4000, 2.2e-8 by 6500. So 4000 steps.
     const auto r = sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000);
     INFO("sitar-bridge beside tanpura-pa and three sympathetic strings: largest difference " << r.largest
                                                                                            << " of the pickup's peak");

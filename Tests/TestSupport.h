@@ -87,8 +87,8 @@ inline InstrumentStructure scriptStructure(ObstacleShape shape)
     return structure;
 }
 
-// The Sitar preset's string and parabolic bridge on the tanpura body, with `sympatheticStrings` of
-// its sympathetic strings.
+// The Sitar preset's string and parabolic bridge on the tanpura body (the preset itself plays through
+// the sitar's), with `sympatheticStrings` of its sympathetic strings.
 inline InstrumentStructure sitarStructure(int sympatheticStrings)
 {
     InstrumentStructure s;

@@ -104,7 +104,8 @@ struct ScalarContactSolution
 {
     double r = 0.0;
     double slope = 0.0;  // G(r): the force per metre is -slope
-    // dG/dr at the root where the solver has it in closed form (ContactSpline), else NaN.
+    // dG/dr at the root where the solver has it in closed form (ContactSpline; a bilateral law's
+    // K/2 + R/(2 dt), the same at every r), else NaN.
     double slopeDerivative = std::numeric_limits<double>::quiet_NaN();
     int iterations = 0;  // Halley or Newton steps
     // The root's penetration p = s - r with p^alpha, formed without a pow: from D (p^beta = s^beta +
