@@ -157,14 +157,8 @@ void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at
     linearForce_ = trialForce(strings, linearFrom_, count_, before, at, &linearSlope_);
     if (std::isfinite(linearForce_) && std::isfinite(linearSlope_))
         return;
-    const bool byTrials = std::isfinite(linearForce_);
-    auto force = [&](double w) {
-        return byTrials ? trialForce(strings, linearFrom_, count_, before, w)
-                        : solveForce(strings, linearFrom_, count_, before, w);
-    };
-    if (!byTrials)
-        linearForce_ = force(at);
-    linearSlope_ = (force(at + kStep) - linearForce_) / kStep;
+    linearForce_ = solveForce(strings, linearFrom_, count_, before, at);
+    linearSlope_ = (solveForce(strings, linearFrom_, count_, before, at + kStep) - linearForce_) / kStep;
 }
 
 namespace
