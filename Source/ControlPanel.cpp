@@ -106,8 +106,9 @@ const ControlSpec kControls[] = {
      "Sharp: a 1.5 ms flick at the pluck point. Soft: a finger's push, rising over 50 ms and letting go "
      "abruptly; through a body the sound then grows for half a second as the bridge wakes the high partials."},
     {"Body", ids::body, "Body",
-     "What the bridge stands on. A tanpura's top plate (fitted to a measured tanpura's response) moves with the "
-     "bridge and radiates the sound you hear; none: rigid supports, heard through the pickup."},
+     "What the bridge stands on. A tanpura's top plate (fitted to a measured tanpura's response) or a sitar's "
+     "(the same build at a sitar's size: higher and sparser modes) moves with the bridge and radiates the sound "
+     "you hear; none: rigid supports, heard through the pickup."},
     {"Body", ids::bodyMix, "Mix", "With a body: its radiated sound at 100 %, the pickup (the string's velocity) at 0."},
     {"Body", ids::bodyTuning, "Tuning", "Scales every body mode's frequency: a smaller body sounds higher."},
     {"Body", ids::bodyDamping, "Damping", "Scales every body mode's damping."},

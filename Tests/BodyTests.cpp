@@ -173,6 +173,8 @@ TEST_CASE("The tanpura body's response from the bridge to the radiated sound fol
 {
     for (const auto* recipe : {&tanpuraBodyRecipe(), &sitarBodyRecipe()})
     {
+        // The measured bands from 80 Hz, at the frequencies this body scales them to.
+        const double scale = recipe->lowestHz / tanpuraBodyRecipe().lowestHz;
         const auto body = *factoryBody(recipe->name);
         const double rate = 96000.0;
         const auto p = bridgeImpulseResponse(body, rate, 2.0);
@@ -185,7 +187,7 @@ TEST_CASE("The tanpura body's response from the bridge to the radiated sound fol
             INFO(recipe->name << " (" << body.modes.size() << " modes from " << body.modes.front().frequencyHz
                               << " Hz): " << band.lowHz << "-" << band.highHz << " Hz: " << levels[b] << " dB, wanted "
                               << band.levelDb << " dB");
-            if (band.lowHz >= 80.0)
+            if (band.lowHz >= 0.999 * 80.0 * scale)
                 CHECK(std::abs(levels[b] - band.levelDb) < 6.0);
         }
     }
@@ -639,17 +641,31 @@ struct SharedAgainstJoined
     long playedSolvesByTrial = 0, sympatheticSolvesByTrial = 0;
 };
 
-// `count` sympathetic strings tuned to Kafi from 200 Hz, M modes: linear (their bridges are springs),
-// or on their jawari too; their points out of reach left out or not.
-std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate, bool jawari, bool reach)
+// What a sympathetic string stands on: its bridge's spring; that and its jawari; or two springs (a
+// scene's string held at two points, whose force no trial poses).
+enum class TarafPoints
+{
+    spring,
+    springAndJawari,
+    twoSprings
+};
+
+// `count` sympathetic strings tuned to Kafi from 200 Hz, M modes, on `points`; their points out of
+// reach left out or not.
+std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate, TarafPoints points, bool reach)
 {
     std::vector<ModalSolverConfig> configs;
     for (int k = 0; k < count; ++k)
     {
         const auto string = sympatheticStringAt(200.0 * std::pow(2.0, sympatheticSemitones(k, SympatheticScale::kafi) / 12.0));
         std::vector<Obstacle> bridge = {sympatheticBridge(string.lengthMetres)};
-        if (jawari)
+        if (points == TarafPoints::springAndJawari)
             bridge.push_back(sympatheticJawari(string.lengthMetres));
+        if (points == TarafPoints::twoSprings)
+        {
+            bridge.push_back(bridge.front());
+            bridge.back().position = sympatheticJawari(string.lengthMetres).position;
+        }
         configs.push_back(
             stringSolverConfig(string, bridge, M, rate, 0.9 * string.lengthMetres, PickupQuantity::displacement));
         configs.back().leaveOutOfReach = reach;
@@ -658,7 +674,7 @@ std::vector<ModalSolverConfig> sympatheticConfigs(int count, int M, double rate,
 }
 
 SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M, int sympathetic = 0, int steps = 7000,
-                                        bool jawari = false, bool reach = false)
+                                        TarafPoints points = TarafPoints::spring, bool reach = false)
 {
     const double rate = 192000.0;
     auto configOf = [&](const Scene& s) {
@@ -672,7 +688,7 @@ SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M,
     };
     const ModalBody body = *factoryBody("tanpura");
 
-    const auto linear = sympatheticConfigs(sympathetic, M, rate, jawari, false);  // at rest, after the two
+    const auto linear = sympatheticConfigs(sympathetic, M, rate, points, false);  // at rest, after the two
     auto joinedConfig = first;
     auto quiet = second;
     quiet.pickupWeights.clear();
@@ -696,12 +712,12 @@ SharedAgainstJoined sharedAgainstJoined(const Scene& sa, const Scene& pa, int M,
     SharedBody shared(body, 1.0, a.timeStep());
     shared.check(a);
     shared.check(b);
-    const auto tarafConfigs = sympatheticConfigs(sympathetic, M, rate, jawari, reach);
+    const auto tarafConfigs = sympatheticConfigs(sympathetic, M, rate, points, reach);
     std::vector<ModalSolver> tarafs(tarafConfigs.begin(), tarafConfigs.end());
     std::vector<ModalSolver*> strings = {&a, &b};
     for (auto& t : tarafs)
     {
-        if (jawari)
+        if (points == TarafPoints::springAndJawari)
             shared.check(t);
         else
             shared.checkLinear(t);
@@ -764,7 +780,8 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     // The same sympathetic strings on their jawari: no longer linear, they are solved with the played
     // strings at every evaluation (their trials the spring and the jawari together).
     const auto j =
-        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000, true);
+        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000,
+                            TarafPoints::springAndJawari);
     INFO("the same on their jawari: largest difference " << j.largest << " of the pickup's peak, " << j.jawariSteps
                                                          << " steps of a string on its jawari, " << j.evaluations
                                                          << " contact solves in 4000 steps");
@@ -780,9 +797,37 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     // jawari at the string's rest height is always within reach, so the reach's bookkeeping must leave
     // the motion the joined solver's.
     const auto reached =
-        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000, true, true);
+        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000,
+                            TarafPoints::springAndJawari, true);
     INFO("with their points out of reach left out: largest difference " << reached.largest << ", "
                                                                         << reached.jawariSteps << " steps on a jawari");
     CHECK(reached.jawariSteps == j.jawariSteps);
     CHECK(reached.largest < 1e-9);
+}
+
+TEST_CASE("A string on two springs has no trial on a moving bridge; on the shared body it moves as when joined",
+          "[body]")
+{
+    // At rest a spring's force is 0 but its slope is not: a trial that answered 0 there would give the
+    // affine fit no slope, and the first step that moves the body would miss the string's stiffness.
+    auto configs = sympatheticConfigs(1, 40, 192000.0, TarafPoints::twoSprings, false);
+    ModalSolver held(configs.front());
+    REQUIRE(held.contactCount() == 2);
+    held.predictOnMovingBridge();
+    double slope = 0.0;
+    CHECK(std::isnan(held.trialOnMovingBridge(0.0, 1e-9, &slope)));
+    auto one = sympatheticConfigs(1, 40, 192000.0, TarafPoints::spring, false);
+    ModalSolver single(one.front());
+    single.predictOnMovingBridge();
+    const double force = single.trialOnMovingBridge(0.0, 1e-9, &slope);
+    INFO("one spring: force " << force << " N at 1 nm, slope " << slope << " N/m");
+    CHECK(force == Approx(slope * 1e-9).epsilon(1e-9));  // affine through 0 at rest
+    CHECK(slope < -1e3);                                  // the spring pushes the rising bridge down
+
+    const Scene pa = loadSceneFile(test::resource("Scenes/tanpura-pa.json"));
+    const auto r =
+        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000,
+                            TarafPoints::twoSprings);
+    INFO("three sympathetic strings on two springs each: largest difference " << r.largest << " of the pickup's peak");
+    CHECK(r.largest < 1e-9);
 }

@@ -312,6 +312,47 @@ TEST_CASE("the quadratic spline's force stays within its tolerance of K eta^alph
     CHECK(ContactSpline({1e13, 4.0}).knotCount() <= ContactSpline::kReservedKnots);
 }
 
+TEST_CASE("chordSlopeDerivative at a scalar solve's root is the chord slope's centred difference, for a point's "
+          "law and a spring's")
+{
+    // The body's secant takes a trial's dF/dW from it (ModalSolver::trialOnMovingBridge). A spring's
+    // derivative is the constant K/2 + R/(2 dt) at every r, whether or not the solution carries it.
+    ContactLaw spring;
+    spring.bilateral = true;
+    spring.exponent = 1.0;
+    spring.stiffness = 1e8;
+    spring.damping = 1e3;
+    spring = solverLaw(spring, 1e-6);
+    std::mt19937 rng(41);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (const ContactLaw& law : {ContactLaw{1e10, 1.5}, ContactLaw{1e12, 1.0}, spring})
+    {
+        double worst = 0.0;
+        int compared = 0;
+        for (int n = 0; n < 2000; ++n)
+        {
+            const double k = std::pow(10.0, -13.0 + 2.0 * unit(rng));
+            const double s = 1e-5 * unit(rng) * std::pow(10.0, -2.0 * std::abs(unit(rng)));
+            const double b = 1e-5 * unit(rng) * std::pow(10.0, -2.0 * std::abs(unit(rng)));
+            ScalarContactSolution sol = solveScalarContact(law, s, b, k);
+            sol.slopeDerivative = std::numeric_limits<double>::quiet_NaN();  // from the root alone
+            const double h = 1e-6 * std::abs(sol.r);
+            if (!(h > 1e-13) || (!law.bilateral && sol.slope == 0.0))
+                continue;  // a root at r ~ 0, or off the obstacle at both ends (G = 0 around it)
+            const double difference =
+                (chordSlope(law, s, sol.r + h).value - chordSlope(law, s, sol.r - h).value) / (2.0 * h);
+            const double scale = std::abs(difference) + std::abs(sol.slope / sol.r);
+            worst = std::max(worst, std::abs(chordSlopeDerivative(law, s, sol) - difference) / scale);
+            ++compared;
+        }
+        INFO((law.bilateral ? "spring" : "point") << ", exponent " << law.exponent << ": " << compared
+                                                  << " roots compared, worst relative error " << worst);
+        CHECK(compared > 500);
+        CHECK(worst < 1e-4);
+    }
+    CHECK(chordSlopeDerivative(spring, 1e-6, ScalarContactSolution{}) == Approx(0.5 * 1e8 + 1e3 / 2e-6));
+}
+
 TEST_CASE("the quadratic spline's solve gives G'(r) at its root, as the chord slope's own difference quotient")
 {
     // G(r) = (psi(s - r) - psi(s)) / r; its derivative at the root (ScalarContactSolution::

@@ -250,6 +250,32 @@ TEST_CASE("The factory presets keep their program numbers: a new one comes last"
         CHECK(p.getProgramName(i) == juce::String(names[i]));
 }
 
+TEST_CASE("The factory presets play through their instrument's body: tanpuras the tanpura's, sitars the sitar's",
+          "[plugin]")
+{
+    // The Body choice: 0 none, 1 tanpura, 2 sitar (kBodyNames).
+    JawariAudioProcessor p;
+    int tanpuras = 0, sitars = 0;
+    for (int i = 0; i < p.getNumPrograms(); ++i)
+    {
+        p.setCurrentProgram(i);
+        const auto name = p.getProgramName(i);
+        INFO(name << ": body " << parameterValue(p, ids::body));
+        if (name.startsWith("Tanpura"))
+        {
+            CHECK(parameterValue(p, ids::body) == 1.0f);
+            ++tanpuras;
+        }
+        if (name.startsWith("Sitar"))
+        {
+            CHECK(parameterValue(p, ids::body) == 2.0f);
+            ++sitars;
+        }
+    }
+    CHECK(tanpuras == 2);
+    CHECK(sitars == 2);
+}
+
 TEST_CASE("A state or preset saved with the old id droneLevel restores the drone strength", "[plugin]")
 {
     // The state of an older version: drone strength saved as "droneLevel".

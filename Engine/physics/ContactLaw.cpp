@@ -322,6 +322,8 @@ double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContact
 {
     if (std::isfinite(sol.slopeDerivative))
         return sol.slopeDerivative;
+    if (law.bilateral)
+        return bilateralSlope(law, s, 0.0).derivative;  // G is affine in r: K/2 + R/(2 dt) everywhere
     const double r = sol.r, p = s - r;
     if (r == 0.0)
         return std::numeric_limits<double>::quiet_NaN();

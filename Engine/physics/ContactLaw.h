@@ -117,8 +117,8 @@ struct ScalarContactSolution
 // it was built for another exponent, it is built here. `known` (optional): see KnownPower.
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
                                          const DividedSeries* series = nullptr, const KnownPower* known = nullptr);
-// dG/dr at the root `sol` of the scalar equation above for this (unilateral) law, from the solution
-// alone: G(r) = (psi(s - r) - psi(s)) / r, so G' = (-psi'(p) - G) / r with p = s - r, and
+// dG/dr at the root `sol` of the scalar equation above, from the solution alone. A bilateral law's
+// G is affine in r, its slope K/2 + R/(2 dt) everywhere. A unilateral law's: G(r) = (psi(s - r) - psi(s)) / r, so G' = (-psi'(p) - G) / r with p = s - r, and
 // psi''(p) / 2 where r is too small against p for that quotient. One pow at most (none where the
 // solve knew p^alpha). The solution's own slopeDerivative where it has one.
 double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContactSolution& sol);

@@ -128,6 +128,8 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
         *slope = 0.0;
     if (P_ > 1 && springPoint_ >= 0)
         return trialWithSpring(before, move, slope);
+    if (springsUntried_)
+        return std::numeric_limits<double>::quiet_NaN();  // a spring pulls even at rest: only a solve tells
     if (P_ == 0 || (P_ > 1 && pressing_.empty()))
         return 0.0;
     if (P_ > 1)
@@ -389,7 +391,7 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
 }
 
 // springPoint_: the one bilateral point of a string solved by the energy-conserving method with
-// coupled points, else -1.
+// coupled points, else -1; springsUntried_: a string of several points with springs that is not that.
 void ModalSolver::findSpringPoint()
 {
     springPoint_ = -1;
@@ -403,6 +405,7 @@ void ModalSolver::findSpringPoint()
     // A diagonal system (the reference grid) is solved point by point, not by the Schur complement.
     if (springs != 1 || method_ != ContactMethod::energyConserving || system_.isDiagonal())
         springPoint_ = -1;
+    springsUntried_ = P_ > 1 && springs > 0 && springPoint_ < 0;
 }
 
 void ModalSolver::displacementAt(const double* shapes, int count, double* out)

@@ -135,7 +135,8 @@ public:
     // equation, which is its solve, whatever it did before. A string held by one spring (a bilateral
     // point, energy-conserving method, coupled points): the spring with its one presser, or alone
     // (trialWithSpring); with two points that is the root its solve finds, and the solve at the same
-    // bridge keeps it. `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
+    // bridge keeps it. NaN for a string with points and springs that no trial poses (two springs, or
+    // a spring solved point by point). `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
     double trialOnMovingBridge(double before, double move, double* slope = nullptr) const;
     // RT, on a moving bridge, before predictOnMovingBridge(): the live points for a string whose
     // energy stays at most H while its bridge rises by at most `rise` (m; ContactReach::refresh), or
@@ -344,6 +345,7 @@ private:
     // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
     std::vector<int> pressing_;
     int springPoint_ = -1;  // the one bilateral point (energy-conserving, coupled), else -1: findSpringPoint()
+    bool springsUntried_ = false;  // springs among several points that no trial poses: findSpringPoint()
     // A one-point string's last trial of the step (trialOnMovingBridge) and where it was posed: a
     // solve at the same place takes it (NaN: none yet).
     mutable ScalarContactSolution trial_;
