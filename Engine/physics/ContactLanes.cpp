@@ -143,7 +143,7 @@ struct Lanes
     if (any(fresh))
     {
         const double alpha = l.alpha;
-        pAlpha = onLanes(fresh, p, pAlpha, [alpha](double x) { return std::pow(x, alpha); });
+        pAlpha = onLanes(fresh, p, pAlpha, [alpha](double x) { return lawPower(x, alpha); });
         anchor = {select(fresh, p, anchor.x), select(fresh, pAlpha, anchor.xAlpha), select(fresh, 1.0 / p, anchor.invX)};
     }
     const Vec D = (pAlpha * p - l.sAlpha * maximum(l.s, splat(0.0))) * invH;
@@ -302,7 +302,7 @@ void solveContactLanes(ContactLaneBatch& batch)
     const Mask nearKnown = absolute(x) <= 1e-6;
     const Mask positive = s > 0.0;
     Vec sAlpha = knownXAlpha * (1.0 + x * alpha * (1.0 + 0.5 * x * (alpha - 1.0)));
-    sAlpha = onLanes(positive & ~nearKnown, s, sAlpha, [alpha](double v) { return std::pow(v, alpha); });
+    sAlpha = onLanes(positive & ~nearKnown, s, sAlpha, [alpha](double v) { return lawPower(v, alpha); });
     sAlpha = select(positive, sAlpha, splat(0.0));
     const Vec psiBefore = K / beta * sAlpha * maximum(s, splat(0.0));
     // Leaving the obstacle: the closed form.

@@ -129,7 +129,7 @@ Divided divided(const DividedSeries& series, double alpha, double s, double invS
     double pAlpha = anchoredPower(series, anchor, p);
     if (pAlpha == 0.0)
     {
-        pAlpha = std::pow(p, alpha);
+        pAlpha = lawPower(p, alpha);
         anchor = {p, pAlpha, 1.0 / p};
     }
     const double D = (pAlpha * p - sAlpha * std::max(s, 0.0)) * invH;
@@ -147,7 +147,7 @@ double powerOf(double s, double alpha, const KnownPower* known)
     if (std::abs(x) <= 1e-6)
         // (1 + x)^alpha to second order: the error ~ x^3 <= 1e-18.
         return known->xAlpha * (1.0 + x * alpha * (1.0 + 0.5 * x * (alpha - 1.0)));
-    return std::pow(s, alpha);
+    return lawPower(s, alpha);
 }
 
 KnownPower rootPower(double s, double sAlpha, double slope, const ContactLaw& law, double r)
@@ -165,7 +165,7 @@ ChordSlope chordSlope(const ContactLaw& law, double s, double r)
 {
     if (law.bilateral)
         return bilateralSlope(law, s, r);
-    return chordSlope(law, dividedSeries(law.exponent), s, s > 0.0 ? std::pow(s, law.exponent) : 0.0, r);
+    return chordSlope(law, dividedSeries(law.exponent), s, s > 0.0 ? lawPower(s, law.exponent) : 0.0, r);
 }
 
 ChordSlope chordSlope(const ContactLaw& law, const DividedSeries& series, double s, double sAlpha, double r,
@@ -329,8 +329,8 @@ double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContact
         return std::numeric_limits<double>::quiet_NaN();
     if (!(p > 0.0))
         return -sol.slope / r;  // off the obstacle at the root: G = -psi(s) / r
-    const double pAlpha = sol.penetration.xAlpha > 0.0 && sol.penetration.x == p ? sol.penetration.xAlpha
-                                                                                  : std::pow(p, law.exponent);
+    const double pAlpha =
+        sol.penetration.xAlpha > 0.0 && sol.penetration.x == p ? sol.penetration.xAlpha : lawPower(p, law.exponent);
     if (std::abs(r) < 1e-6 * p)
         return 0.5 * law.stiffness * law.exponent * pAlpha / p;
     return (-law.stiffness * pAlpha - sol.slope) / r;

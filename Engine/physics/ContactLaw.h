@@ -10,6 +10,7 @@
 //
 // Everything here is RT: pure arithmetic, no allocation.
 
+#include <cmath>
 #include <limits>
 
 namespace jawari
@@ -25,6 +26,13 @@ struct ContactLaw
     // from `damping` and its time step (solverLaw); 0 outside a solver.
     double stepDamping = 0.0;
 };
+
+// x^alpha for x > 0, as the solves take a law's powers: alpha = 1.5 (the sitar's laws) as x sqrt(x),
+// within about an ulp of pow at a fraction of its cost; any other alpha by pow.
+inline double lawPower(double x, double alpha)
+{
+    return alpha == 1.5 ? x * std::sqrt(x) : std::pow(x, alpha);
+}
 
 // The law as a solver of time step dt uses it: stepDamping = damping / (2 dt).
 ContactLaw solverLaw(const ContactLaw& law, double dt);
