@@ -76,6 +76,14 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
 
 int ContactSystem::solve(const double* s, const double* b, double* r, double* slope, const int* points, int count)
 {
+    tookOffer_ = false;
+    const int iterations = solveListed(s, b, r, slope, points, count);
+    offer_.point = -1;  // good for one solve
+    return iterations;
+}
+
+int ContactSystem::solveListed(const double* s, const double* b, double* r, double* slope, const int* points, int count)
+{
     if (diagonal_)
         return solveDecoupled(s, b, r, slope);
     listed_ = points;
@@ -162,8 +170,12 @@ void ContactSystem::record(Eigen::Index j, double rj, double slopej, const Known
 bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope,
                                      int& iterations)
 {
-    const auto sol =
-        solveScalarContact(points_[a].law, s[a], b[a], A_(a, a), &series_[size_t(a)], &known_[size_t(a)][1]);
+    const KnownPower& known = known_[size_t(a)][1];
+    // The caller's trial posed this very equation: its solution, bit for bit what a solve would give.
+    const bool offered = offer_.point == a && offer_.s == s[a] && offer_.b == b[a] && offer_.known.x == known.x
+                         && offer_.known.xAlpha == known.xAlpha && offer_.known.invX == known.invX;
+    const auto sol = offered ? offer_.solution
+                             : solveScalarContact(points_[a].law, s[a], b[a], A_(a, a), &series_[size_t(a)], &known);
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];
@@ -178,6 +190,7 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
     }
     record(a, sol.r, sol.slope, sol.penetration, r, slope);
     iterations = sol.iterations;
+    tookOffer_ = offered;
     return true;
 }
 

@@ -55,6 +55,21 @@ public:
         return solveScalarContact(points_[size_t(j)].law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1]);
     }
 
+    // RT: a trial's solution of point j's scalar equation alone (solveAlone for s, b, posed with
+    // `known`, the powers it took): the next solve() takes it, unsolved, if it poses that very equation
+    // (j the one point that presses, with the same s, b and known powers); any other solve ignores it.
+    // tookOffer(): whether the last solve() did.
+    struct AloneOffer
+    {
+        int point = -1;
+        double s = 0.0, b = 0.0;
+        KnownPower known;
+        ScalarContactSolution solution;
+    };
+    const KnownPower& knownBefore(int j) const { return known_[size_t(j)][1]; }  // what solveAlone takes
+    void offerAlone(const AloneOffer& offer) { offer_ = offer; }
+    bool tookOffer() const { return tookOffer_; }
+
     // RT: solveWithBilateral's equations for the bilateral point t and the point a that can touch (-1:
     // none), every other point's force 0, nothing kept (a caller's trial, as solveAlone): G_t, G_a, and
     // with `derivatives` theirs as b_t and b_a rise together (dG/db; NaN where G_a' has no closed
@@ -73,6 +88,7 @@ public:
     void recordSpringTrial(int t, int a, const SpringTrial& trial, double* r, double* slope);
 
 private:
+    int solveListed(const double* s, const double* b, double* r, double* slope, const int* points, int count);
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
     bool solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations);
     bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
@@ -93,6 +109,8 @@ private:
     // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
     // one's p is this step's s (ContactLaw.h, KnownPower).
     std::vector<std::array<KnownPower, 2>> known_;
+    AloneOffer offer_;  // offerAlone's, until the next solve()
+    bool tookOffer_ = false;
     std::vector<double> sAlpha_;       // [s_j]_+^alpha of the coupled solve in progress
     std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
     Eigen::MatrixXd A_;

@@ -109,6 +109,14 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         lastIterations_ += trial_.iterations;
         lastSolveWasTrial_ = true;
     }
+    else if (P_ > 1 && aloneTrial_.point >= 0 && before == trialBefore_ && move == trialMove_)
+    {
+        // The step's last trial posed one point alone here: if the solve finds that point pressing
+        // alone, the trial's solution is its own.
+        system_.offerAlone(aloneTrial_);
+        lastIterations_ += solveContacts();
+        lastSolveWasTrial_ = system_.tookOffer();
+    }
     else
         lastIterations_ += solveContacts();
     double force = 0.0;
@@ -138,17 +146,20 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
         if (pressing_.size() > 1 || contacts_[j].law.bilateral)
             return std::numeric_limits<double>::quiet_NaN();
     }
-    const double s = sOnBridge(j, before);
-    const auto solution = solvePointAlone(j, s, bOnBridge(j, move));
+    const double s = sOnBridge(j, before), b = bOnBridge(j, move);
+    const auto solution = solvePointAlone(j, s, b);
     if (slope != nullptr)
     {
         // r + k G(r) = b with db/dmove = -1: dr/dmove = -1 / (1 + k G'), and F = w G.
         const double k = system_.coupling()(j, j), g = chordSlopeDerivative(contacts_[j].law, s, solution);
         *slope = -contacts_[j].weight * g / (1.0 + k * g);
     }
-    if (P_ == 1)
+    if (P_ == 1 || method_ == ContactMethod::energyConserving)
     {
-        trial_ = solution;
+        if (P_ == 1)
+            trial_ = solution;
+        else
+            aloneTrial_ = {j, s, b, system_.knownBefore(j), solution};
         trialBefore_ = before;
         trialMove_ = move;
     }

@@ -353,6 +353,9 @@ private:
     // took (-1: the spring alone); -2 for every other string.
     mutable ContactSystem::SpringTrial springTrial_;
     mutable int springTrialPresser_ = -2;
+    // A string of several points, energy-conserving: its last trial's one point alone, which the
+    // solve at the same place takes where that point presses alone (ContactSystem::offerAlone).
+    mutable ContactSystem::AloneOffer aloneTrial_;
     mutable double trialBefore_ = std::numeric_limits<double>::quiet_NaN();
     mutable double trialMove_ = std::numeric_limits<double>::quiet_NaN();
 };
