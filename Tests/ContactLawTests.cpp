@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -204,6 +205,51 @@ TEST_CASE("the coupled solve with one point touching is exact whether or not its
     INFO(othersStayedOff << " trials with the others off, " << othersPushedOn << " with some pushed on");
     CHECK(othersStayedOff > 50);
     CHECK(othersPushedOn > 50);
+}
+
+TEST_CASE("a solve takes a trial of one point alone only where it poses that very equation, and then gives the "
+          "same bits")
+{
+    // ContactSystem::solveAlone keeps its solution for the next solve, which takes it where that point
+    // presses alone with the same s, b and known powers. Against a copy of the system given no trial,
+    // and one given a trial with b moved by 1e-9 of itself (which must not be taken).
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const int P = 5;
+    int taken = 0;
+    for (int n = 0; n < 400; ++n)
+    {
+        DenseCoupling c(P, rng);
+        const int a = n % P;
+        std::vector<double> s(P), b(P);
+        for (int j = 0; j < P; ++j)
+        {
+            s[j] = j == a ? 1e-5 * unit(rng) : -1e-6 * std::abs(unit(rng));
+            b[j] =
+                j == a ? s[j] - 1e-5 * std::abs(unit(rng)) : s[j] + 1e-6 * std::pow(10.0, -6.0 * std::abs(unit(rng)));
+        }
+        ContactSystem fresh = c.system, moved = c.system;
+        auto solved = [&](ContactSystem& system) {
+            std::vector<double> r(P), G(P);
+            system.solve(s.data(), b.data(), r.data(), G.data());
+            r.insert(r.end(), G.begin(), G.end());
+            return r;
+        };
+        c.system.solveAlone(a, s[size_t(a)], b[size_t(a)]);
+        moved.solveAlone(a, s[size_t(a)], b[size_t(a)] * (1.0 + 1e-9));
+        const auto withTrial = solved(c.system), without = solved(fresh), withMoved = solved(moved);
+        INFO("system " << n);
+        CHECK(std::memcmp(withTrial.data(), without.data(), without.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(withMoved.data(), without.data(), without.size() * sizeof(double)) == 0);
+        CHECK_FALSE(moved.tookTrial());
+        CHECK_FALSE(fresh.tookTrial());
+        taken += c.system.tookTrial();
+        // Good for one solve: the next, posed the same, solves.
+        solved(c.system);
+        CHECK_FALSE(c.system.tookTrial());
+    }
+    INFO(taken << " of 400 solves took the trial");
+    CHECK(taken > 100);
 }
 
 TEST_CASE("the lanes' contact solve gives each lane the scalar solve's solution to rounding")

@@ -497,7 +497,8 @@ TEST_CASE("Two unison strings on one body: their anti-phase motion never feels i
     const auto fitted = unisonOnBody(2, 1.0, seconds, true);
     double apart = 0.0;
     for (size_t n = 0; n < pair.first.size(); ++n)
-        apart = std::max({apart, std::abs(fitted.first[n] - pair.first[n]), std::abs(fitted.second[n] - pair.second[n])});
+        apart =
+            std::max({apart, std::abs(fitted.first[n] - pair.first[n]), std::abs(fitted.second[n] - pair.second[n])});
     INFO("the pair through the affine fit differs from the pair solved by " << apart / peak << " of the peak");
     CHECK(apart < 1e-9 * peak);
 }

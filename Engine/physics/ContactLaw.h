@@ -85,6 +85,7 @@ struct KnownPower
     double x = 0.0;
     double xAlpha = 0.0;  // x^alpha, or 0 if unknown
     double invX = 0.0;    // 1/x
+    bool operator==(const KnownPower&) const = default;
 };
 // The same with the law's series and sAlpha = [s]_+^alpha given (both fixed during a solve), and
 // optionally an anchor the evaluation uses and renews (kept per point by the caller).
@@ -126,8 +127,9 @@ struct ScalarContactSolution
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
                                          const DividedSeries* series = nullptr, const KnownPower* known = nullptr);
 // dG/dr at the root `sol` of the scalar equation above, from the solution alone. A bilateral law's
-// G is affine in r, its slope K/2 + R/(2 dt) everywhere. A unilateral law's: G(r) = (psi(s - r) - psi(s)) / r, so G' = (-psi'(p) - G) / r with p = s - r, and
-// psi''(p) / 2 where r is too small against p for that quotient. One pow at most (none where the
+// G is affine in r, its slope K/2 + R/(2 dt) everywhere. A unilateral law's: G(r) = (psi(s - r) -
+// psi(s)) / r, so G' = (-psi'(p) - G) / r with p = s - r, and psi''(p) / 2 where r is too small
+// against p for that quotient. One pow at most (none where the
 // solve knew p^alpha). The solution's own slopeDerivative where it has one.
 double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContactSolution& sol);
 

@@ -39,11 +39,13 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     olderR_.assign(points_.size(), 0.0);
     previousContact_.assign(points_.size(), 0);
     olderContact_.assign(points_.size(), 0);
+    trial_.point = -1;
 }
 
 void ContactSystem::setLaw(int j, const ContactLaw& law)
 {
     points_[size_t(j)].law = law;
+    trial_.point = -1;  // a trial of the old law
     if (series_[size_t(j)].exponent != law.exponent)
     {
         series_[size_t(j)] = dividedSeries(law.exponent);  // no allocation: a fixed-size table
@@ -54,6 +56,7 @@ void ContactSystem::setLaw(int j, const ContactLaw& law)
 
 void ContactSystem::setCoupling(const Eigen::MatrixXd& couplingA)
 {
+    trial_.point = -1;  // a trial of the old coupling
     if (diagonal_)
         for (Eigen::Index j = 0; j < A_.rows(); ++j)
             A_(j, j) = couplingA(j, j);
@@ -67,6 +70,7 @@ void ContactSystem::reset()
     std::fill(olderContact_.begin(), olderContact_.end(), 0);
     std::fill(known_.begin(), known_.end(), std::array<KnownPower, 2>{});
     std::fill(anchors_.begin(), anchors_.end(), KnownPower{});
+    trial_.point = -1;
 }
 
 int ContactSystem::solve(const double* s, const double* b, double* r, double* slope)
@@ -76,10 +80,21 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
 
 int ContactSystem::solve(const double* s, const double* b, double* r, double* slope, const int* points, int count)
 {
-    tookOffer_ = false;
+    tookTrial_ = false;
     const int iterations = solveListed(s, b, r, slope, points, count);
-    offer_.point = -1;  // good for one solve
+    trial_.point = -1;  // good for one solve
     return iterations;
+}
+
+ScalarContactSolution ContactSystem::solvePoint(int j, double s, double b) const
+{
+    return solveScalarContact(points_[size_t(j)].law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1]);
+}
+
+ScalarContactSolution ContactSystem::solveAlone(int j, double s, double b) const
+{
+    trial_ = {j, s, b, known_[size_t(j)][1], solvePoint(j, s, b)};
+    return trial_.solution;
 }
 
 int ContactSystem::solveListed(const double* s, const double* b, double* r, double* slope, const int* points, int count)
@@ -170,12 +185,10 @@ void ContactSystem::record(Eigen::Index j, double rj, double slopej, const Known
 bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope,
                                      int& iterations)
 {
-    const KnownPower& known = known_[size_t(a)][1];
-    // The caller's trial posed this very equation: its solution, bit for bit what a solve would give.
-    const bool offered = offer_.point == a && offer_.s == s[a] && offer_.b == b[a] && offer_.known.x == known.x
-                         && offer_.known.xAlpha == known.xAlpha && offer_.known.invX == known.invX;
-    const auto sol = offered ? offer_.solution
-                             : solveScalarContact(points_[a].law, s[a], b[a], A_(a, a), &series_[size_t(a)], &known);
+    // Where the caller's trial posed this very equation, its solution: what solvePoint would give.
+    const bool tried =
+        trial_.point == a && trial_.s == s[a] && trial_.b == b[a] && trial_.known == known_[size_t(a)][1];
+    const auto sol = tried ? trial_.solution : solvePoint(int(a), s[a], b[a]);
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];
@@ -190,7 +203,7 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
     }
     record(a, sol.r, sol.slope, sol.penetration, r, slope);
     iterations = sol.iterations;
-    tookOffer_ = offered;
+    tookTrial_ = tried;
     return true;
 }
 

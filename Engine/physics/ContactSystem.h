@@ -49,26 +49,12 @@ public:
     void scalarRequest(int j, double s, double b, ScalarContactRequest& request) const;
     void recordScalar(int j, const ScalarContactSolution& solution);
     // RT: point j's scalar equation alone (every other point's force 0), as solve() poses it when j
-    // is the one point that presses; nothing kept. A caller's trial (SharedBody's secant).
-    ScalarContactSolution solveAlone(int j, double s, double b) const
-    {
-        return solveScalarContact(points_[size_t(j)].law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1]);
-    }
-
-    // RT: a trial's solution of point j's scalar equation alone (solveAlone for s, b, posed with
-    // `known`, the powers it took): the next solve() takes it, unsolved, if it poses that very equation
-    // (j the one point that presses, with the same s, b and known powers); any other solve ignores it.
-    // tookOffer(): whether the last solve() did.
-    struct AloneOffer
-    {
-        int point = -1;
-        double s = 0.0, b = 0.0;
-        KnownPower known;
-        ScalarContactSolution solution;
-    };
-    const KnownPower& knownBefore(int j) const { return known_[size_t(j)][1]; }  // what solveAlone takes
-    void offerAlone(const AloneOffer& offer) { offer_ = offer; }
-    bool tookOffer() const { return tookOffer_; }
+    // is the one point that presses: a caller's trial (SharedBody's secant). Only its solution is
+    // kept, until the next solve(), which takes it unsolved where it poses this very equation (j the
+    // one point that presses, with the same s, b and known powers: the same bits). tookTrial():
+    // whether the last solve() did.
+    ScalarContactSolution solveAlone(int j, double s, double b) const;
+    bool tookTrial() const { return tookTrial_; }
 
     // RT: solveWithBilateral's equations for the bilateral point t and the point a that can touch (-1:
     // none), every other point's force 0, nothing kept (a caller's trial, as solveAlone): G_t, G_a, and
@@ -89,6 +75,7 @@ public:
 
 private:
     int solveListed(const double* s, const double* b, double* r, double* slope, const int* points, int count);
+    ScalarContactSolution solvePoint(int j, double s, double b) const;  // j's scalar equation alone
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
     bool solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations);
     bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
@@ -109,8 +96,17 @@ private:
     // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
     // one's p is this step's s (ContactLaw.h, KnownPower).
     std::vector<std::array<KnownPower, 2>> known_;
-    AloneOffer offer_;  // offerAlone's, until the next solve()
-    bool tookOffer_ = false;
+    // solveAlone's last equation and solution, until the next solve() (point -1: none). A new law,
+    // coupling or history forgets it.
+    struct AloneTrial
+    {
+        int point = -1;
+        double s = 0.0, b = 0.0;
+        KnownPower known;
+        ScalarContactSolution solution;
+    };
+    mutable AloneTrial trial_;
+    bool tookTrial_ = false;
     std::vector<double> sAlpha_;       // [s_j]_+^alpha of the coupled solve in progress
     std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
     Eigen::MatrixXd A_;

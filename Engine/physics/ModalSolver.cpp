@@ -109,16 +109,13 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         lastIterations_ += trial_.iterations;
         lastSolveWasTrial_ = true;
     }
-    else if (P_ > 1 && aloneTrial_.point >= 0 && before == trialBefore_ && move == trialMove_)
-    {
-        // The step's last trial posed one point alone here: if the solve finds that point pressing
-        // alone, the trial's solution is its own.
-        system_.offerAlone(aloneTrial_);
-        lastIterations_ += solveContacts();
-        lastSolveWasTrial_ = system_.tookOffer();
-    }
     else
+    {
+        // A string of several points takes its last trial where the solve poses that same equation
+        // (ContactSystem::solveAlone).
         lastIterations_ += solveContacts();
+        lastSolveWasTrial_ = method_ == ContactMethod::energyConserving && system_.tookTrial();
+    }
     double force = 0.0;
     for (int k = 0; k < reach_.liveCount(); ++k)
         if (const int j = rows[k]; slope_[j] != 0.0)
@@ -154,12 +151,9 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
         const double k = system_.coupling()(j, j), g = chordSlopeDerivative(contacts_[j].law, s, solution);
         *slope = -contacts_[j].weight * g / (1.0 + k * g);
     }
-    if (P_ == 1 || method_ == ContactMethod::energyConserving)
+    if (P_ == 1)
     {
-        if (P_ == 1)
-            trial_ = solution;
-        else
-            aloneTrial_ = {j, s, b, system_.knownBefore(j), solution};
+        trial_ = solution;
         trialBefore_ = before;
         trialMove_ = move;
     }
@@ -383,6 +377,7 @@ void ModalSolver::updateCouplings()
             couplingScratch_(i, j) = a;
         }
     system_.setCoupling(couplingScratch_);
+    trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();  // a trial of the old coupling
 }
 
 void ModalSolver::setContact(int j, const ContactLaw& law, double height)
@@ -396,6 +391,7 @@ void ModalSolver::setContact(int j, const ContactLaw& law, double height)
     contacts_[size_t(j)].law = solverLaw(law, dt_);
     contacts_[size_t(j)].height = height;
     system_.setLaw(j, contacts_[size_t(j)].law);
+    trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();  // a trial of the old law
     findSpringPoint();
     if (method_ == ContactMethod::quadraticSpline && lawChanged && !law.bilateral)
         splines_[size_t(j)].setLaw(law);

@@ -130,13 +130,15 @@ public:
     void finishOnMovingBridge();
     // RT, between predictOnMovingBridge() and the step's first solveOnMovingBridge(): what that solve
     // would return if the point that pressed alone at the last step presses alone again (its scalar
-    // equation, the others off): a trial for the caller's iteration, nothing solved or kept. 0 if no
-    // point pressed; NaN if two did (then only a solve tells). A string with one point: its scalar
-    // equation, which is its solve, whatever it did before. A string held by one spring (a bilateral
-    // point, energy-conserving method, coupled points): the spring with its one presser, or alone
-    // (trialWithSpring); with two points that is the root its solve finds, and the solve at the same
-    // bridge keeps it. NaN for a string with points and springs that no trial poses (two springs, or
-    // a spring solved point by point). `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
+    // equation, the others off): a trial for the caller's iteration. Nothing is solved; only the
+    // trial's own solution is kept, which the solve at the same bridge takes where it poses the same
+    // equation (ContactSystem::solveAlone). 0 if no point pressed; NaN if two did (then only a solve
+    // tells). A string with one point: its scalar equation, which is its solve, whatever it did
+    // before. A string held by one spring (a bilateral point, energy-conserving method, coupled
+    // points): the spring with its one presser, or alone (trialWithSpring); with two points that is
+    // the root its solve finds, and the solve at the same bridge keeps it. NaN for a string with
+    // points and springs that no trial poses (two springs, or a spring solved point by point).
+    // `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
     double trialOnMovingBridge(double before, double move, double* slope = nullptr) const;
     // RT, on a moving bridge, before predictOnMovingBridge(): the live points for a string whose
     // energy stays at most H while its bridge rises by at most `rise` (m; ContactReach::refresh), or
@@ -353,9 +355,6 @@ private:
     // took (-1: the spring alone); -2 for every other string.
     mutable ContactSystem::SpringTrial springTrial_;
     mutable int springTrialPresser_ = -2;
-    // A string of several points, energy-conserving: its last trial's one point alone, which the
-    // solve at the same place takes where that point presses alone (ContactSystem::offerAlone).
-    mutable ContactSystem::AloneOffer aloneTrial_;
     mutable double trialBefore_ = std::numeric_limits<double>::quiet_NaN();
     mutable double trialMove_ = std::numeric_limits<double>::quiet_NaN();
 };
