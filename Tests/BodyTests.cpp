@@ -796,7 +796,6 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     // The played strings likewise, where the step's last solve is at its last trial's bridge: tanpura-pa's
     // one point, and sitar-bridge's 23 points where the point its trial posed presses alone
     // (ContactSystem::solveAlone).
-    INFO(j.playedSolvesByTrial << " of " << 2 * 4000 << " played strings' steps solved by their trial");
     CHECK(j.playedSolvesByTrial > 0.7 * 2 * 4000);
     // The same with their points out of reach left out (ContactReach), as the plugin runs them: a
     // jawari at the string's rest height is always within reach, so the reach's bookkeeping must leave

@@ -49,6 +49,26 @@ struct DenseCoupling
                   + AG.lpNorm<Eigen::Infinity>());
     }
 };
+
+// Point a touches (at n-1 or with the contact-free prediction at n+1); every other point starts off
+// the obstacle, clear of it at n+1 without the force by a margin from 1e-12 to 1e-6 m.
+void onePointTouching(int a, std::mt19937& rng, std::vector<double>& s, std::vector<double>& b)
+{
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (size_t j = 0; j < s.size(); ++j)
+    {
+        if (int(j) == a)
+        {
+            s[j] = 1e-5 * unit(rng);
+            b[j] = s[j] - 1e-5 * std::abs(unit(rng));  // in contact at n+1 without the force
+        }
+        else
+        {
+            s[j] = -1e-6 * std::abs(unit(rng));
+            b[j] = s[j] + 1e-6 * std::pow(10.0, -6.0 * std::abs(unit(rng)));
+        }
+    }
+}
 }  // namespace
 
 TEST_CASE("the chord slope times r is the exact difference of potentials")
@@ -166,7 +186,6 @@ TEST_CASE("the coupled solve with one point touching is exact whether or not its
     // one-point path; where they are pushed on, the coupled Newton. Either way r and every G(r),
     // recomputed here from the law, solve r + A G(r) = b.
     std::mt19937 rng(17);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const int P = 5;
     int othersStayedOff = 0, othersPushedOn = 0;
     for (int trial = 0; trial < 400; ++trial)
@@ -175,20 +194,7 @@ TEST_CASE("the coupled solve with one point touching is exact whether or not its
         REQUIRE_FALSE(c.system.isDiagonal());
         const int a = trial % P;
         std::vector<double> s(P), b(P), r(P), G(P);
-        for (int j = 0; j < P; ++j)
-        {
-            if (j == a)
-            {
-                s[j] = 1e-5 * unit(rng);
-                b[j] = s[j] - 1e-5 * std::abs(unit(rng));  // in contact at n+1 without the force
-            }
-            else
-            {
-                // Off at n+1 without the force, by a margin from 1e-12 to 1e-6 m.
-                s[j] = -1e-6 * std::abs(unit(rng));
-                b[j] = s[j] + 1e-6 * std::pow(10.0, -6.0 * std::abs(unit(rng)));
-            }
-        }
+        onePointTouching(a, rng, s, b);
         c.system.solve(s.data(), b.data(), r.data(), G.data());
         Eigen::VectorXd Gv(P);
         int on = 0;
@@ -214,7 +220,6 @@ TEST_CASE("a solve takes a trial of one point alone only where it poses that ver
     // presses alone with the same s, b and known powers. Against a copy of the system given no trial,
     // and one given a trial with b moved by 1e-9 of itself (which must not be taken).
     std::mt19937 rng(23);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const int P = 5;
     int taken = 0;
     for (int n = 0; n < 400; ++n)
@@ -222,12 +227,7 @@ TEST_CASE("a solve takes a trial of one point alone only where it poses that ver
         DenseCoupling c(P, rng);
         const int a = n % P;
         std::vector<double> s(P), b(P);
-        for (int j = 0; j < P; ++j)
-        {
-            s[j] = j == a ? 1e-5 * unit(rng) : -1e-6 * std::abs(unit(rng));
-            b[j] =
-                j == a ? s[j] - 1e-5 * std::abs(unit(rng)) : s[j] + 1e-6 * std::pow(10.0, -6.0 * std::abs(unit(rng)));
-        }
+        onePointTouching(a, rng, s, b);
         ContactSystem fresh = c.system, moved = c.system;
         auto solved = [&](ContactSystem& system) {
             std::vector<double> r(P), G(P);

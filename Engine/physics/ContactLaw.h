@@ -129,8 +129,8 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
 // dG/dr at the root `sol` of the scalar equation above, from the solution alone. A bilateral law's
 // G is affine in r, its slope K/2 + R/(2 dt) everywhere. A unilateral law's: G(r) = (psi(s - r) -
 // psi(s)) / r, so G' = (-psi'(p) - G) / r with p = s - r, and psi''(p) / 2 where r is too small
-// against p for that quotient. One pow at most (none where the
-// solve knew p^alpha). The solution's own slopeDerivative where it has one.
+// against p for that quotient. One pow at most (none where the solve knew p^alpha). The solution's
+// own slopeDerivative where it has one.
 double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContactSolution& sol);
 
 // One point's equation with everything its solve takes, handed between the string that poses it
