@@ -51,6 +51,9 @@ struct RenderOptions
 {
     bool logEnergy = false;
     std::optional<ContactPath> path;  // force the reference's contact path (tests)
+    // The "realtime" method with other strings on the body: each string meets the body through a
+    // delayed link of this impedance (kg/s; SharedBody::setDelayedLink), a comparison. 0: the rigid bridge.
+    double bodyLinkImpedance = 0.0;
     // Called now and then with the fraction done; return false to cancel (throws).
     std::function<bool(double)> progress;
 };

@@ -226,6 +226,7 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
         throw std::invalid_argument("the energy log of a scene with other strings on its body is the reference's "
                                     "(\"method\": \"reference\")");
     auto v = voicesOnBody(scene);
+    v.body->setDelayedLink(options.bodyLinkImpedance);
     Voice& played = *v.voices[0];
     const int os = played.oversampling();
     const bool pressure = scene.pickup.quantity == PickupQuantity::pressure;

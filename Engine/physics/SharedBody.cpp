@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace jawari
@@ -72,6 +73,7 @@ void SharedBody::silence()
     for (auto* z : {&z_, &zPrevious_, &zPart_, &zPartPrevious_})
         std::fill(z->begin(), z->end(), 0.0);
     force_ = bridge_ = bridgeBefore_ = playedForce_ = 0.0;
+    links_.fill({});
     pressure_.fill(0.0);
     partPressure_.fill(0.0);
     reach_.chooseAgain();  // the bridge's jump to rest may bring the strings' obstacles nearer
@@ -91,9 +93,35 @@ double SharedBody::bodyEnergy() const
 double SharedBody::energy(const ModalSolver* const* strings, int count) const
 {
     double sum = bodyEnergy();
+    if (linkImpedance_ > 0.0)
+    {
+        for (int i = 0; i < count; ++i)
+            sum += strings[i]->energyOnBridge(links_[size_t(i)].node, links_[size_t(i)].nodeBefore);
+        return sum + lineEnergy(count);
+    }
     for (int i = 0; i < count; ++i)
         sum += strings[i]->energyOnBridge(bridge_, bridgeBefore_);
     return sum;
+}
+
+void SharedBody::setDelayedLink(double impedance)
+{
+    if (!(std::isfinite(impedance) && impedance >= 0.0))
+        throw std::invalid_argument("a delayed link's impedance is a finite number of kg/s >= 0 (0: none)");
+    linkImpedance_ = impedance;
+    links_.fill({});
+    reach_.chooseAgain();
+}
+
+// The waves in transit, each sent at the last step and arriving at the next: a wave a carries
+// dt a^2 / (4 R) (J).
+double SharedBody::lineEnergy(int count) const
+{
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i)
+        sum += links_[size_t(i)].toString * links_[size_t(i)].toString
+               + links_[size_t(i)].toBody * links_[size_t(i)].toBody;
+    return dt_ / (4.0 * linkImpedance_) * sum;
 }
 
 bool SharedBody::standsOnSprings(const ModalSolver& string)
@@ -234,6 +262,81 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
     return w;
 }
 
+// The delayed link (setDelayedLink). Each line, of impedance R and one step's delay, carries from each
+// end C - R q, C its compression and q the velocity into the line there, to arrive at the other end
+// a step later as C + R q (the lossless line's Riemann invariants, sampled at its delay). At the
+// string's end q = -v, v its node's centred velocity (w^{n+1} - w^{n-1}) / (2 dt); the node is
+// massless, so C = -F_s, F_s the string's force on it (< 0 pressing down). At the body's end q = V,
+// the bridge's centred velocity, and the body is pushed by -sum C. Given the waves arriving, the
+// body's bridge is linear in its force, and each string with its node is a string on a moving
+// bridge of compliance 2 dt / R: neither waits for the other. The power into a line at an end, C q,
+// is (C + R q)^2 / (4 R) sent less (C - R q)^2 / (4 R) received, so the line holds the waves in
+// transit (lineEnergy) and strings + lines + body keep the joined balance.
+void SharedBody::stepLinked(ModalSolver* const* strings, int count, double predicted)
+{
+    if (count > kMostLinked)
+        throw std::invalid_argument("a delayed link joins at most " + std::to_string(kMostLinked) + " strings");
+    for (int i = 0; i < count; ++i)
+    {
+        strings[i]->wakeAllPoints();  // the reach's budgets assume the rigid bridge
+        strings[i]->predictOnMovingBridge();
+    }
+    // The body: F = -sum (a_i + R V) with V = (w~ + beta F - w^{n-1}) / (2 dt), a_i the waves arriving.
+    const double R = linkImpedance_, N = count;
+    double arriving = 0.0;
+    for (int i = 0; i < count; ++i)
+        arriving += links_[size_t(i)].toBody;
+    force_ = (-arriving - N * R * (predicted - bridgeBefore_) / (2.0 * dt_)) / (1.0 + N * R * beta_ / (2.0 * dt_));
+    const double V = (predicted + beta_ * force_ - bridgeBefore_) / (2.0 * dt_);
+    evaluations_ = trials_ = 0;
+    for (int i = 0; i < count; ++i)
+    {
+        LinkEnd& end = links_[size_t(i)];
+        double node = 0.0;
+        const double compression = -solveNode(*strings[i], end.nodeBefore, end.toString, node);
+        const double v = (node - end.nodeBefore) / (2.0 * dt_);
+        const double atBody = end.toBody + R * V;  // the line's compression at the body's end
+        end.toString = atBody + R * V;
+        end.toBody = compression - R * v;
+        end.nodeBefore = end.node;
+        end.node = node;
+    }
+    for (int i = 0; i < count; ++i)
+        strings[i]->finishOnMovingBridge();
+}
+
+// A string's node at n+1, w = w^{n-1} + (2 dt / R) (a + F_s(w)), a the wave arriving: the secant on
+// trials, then on solves, as solveBridge for one string. Returns F_s there; the string keeps that solve.
+double SharedBody::solveNode(ModalSolver& string, double before, double arriving, double& node)
+{
+    const double k = 2.0 * dt_ / linkImpedance_;
+    auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(k * arriving)) + 1e-30; };
+    constexpr int kMostEvaluations = 16;
+    double slope = 1.0;
+    double w = before + k * arriving;
+    auto trialResidual = [&](double x) {
+        double dForce = 0.0;
+        const double force = string.trialOnMovingBridge(before, x - before, &dForce);
+        return Residual{x - before - k * (arriving + force), 1.0 - k * dForce};
+    };
+    if (const Residual first = trialResidual(w); std::isfinite(first.value))
+    {
+        int trials = 1;
+        w = secant(trialResidual, tolerance, w, first, slope, trials, kMostEvaluations);
+        trials_ += trials;
+    }
+    double force = 0.0;
+    auto residual = [&](double x) {
+        force = string.solveOnMovingBridge(before, x - before);
+        return Residual{x - before - k * (arriving + force)};
+    };
+    int evaluations = 1;
+    w = secant(residual, tolerance, w, residual(w), slope, evaluations, kMostEvaluations);
+    evaluations_ += evaluations;
+    node = w;
+    return force;
+}
+
 // The copy of the modes that the strings after split drive: the same update, their force alone.
 void SharedBody::stepPart(double partForce)
 {
@@ -313,6 +416,12 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     else
         kernels::predictWith<3, 1>(a_.data(), e_.data(), z_.data(), zPrevious_.data(), readings, K, K, read);
     const double predicted = read[0];
+    if (linkImpedance_ > 0.0)
+    {
+        stepLinked(strings, count, predicted);
+        finishBody(predicted, read);
+        return;
+    }
     reach_.choose(strings, count, oneWay_, bridge_, bridgeBefore_);
     for (int i = 0; i < count; ++i)
         strings[i]->predictOnMovingBridge();
@@ -354,6 +463,14 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
         strings[i]->finishOnMovingBridge();
     if (split < count)
         stepPart(partForce_);
+    finishBody(predicted, read);
+}
+
+// The body's step with the step's force_: z^{n+1} = z~ + (dt^2 kappa / m_k) F, its bridge and the
+// channels' pressures.
+void SharedBody::finishBody(double predicted, const double* read)
+{
+    const int K = static_cast<int>(z_.size());
     kernels::axpy(force_, push_.data(), zPrevious_.data(), K);
     std::swap(z_, zPrevious_);
     bridgeBefore_ = bridge_;

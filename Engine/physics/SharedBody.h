@@ -64,6 +64,19 @@ public:
     }
     bool oneWay() const { return oneWay_; }
 
+    // OFF or RT: a delayed link (a comparison, not the instrument's physics; docs/design.md, "A delayed
+    // link, for comparison"): each string meets the body through a lossless line of its own, of
+    // impedance R (kg/s), whose waves take one step from end to end. Each string's bridge is then a
+    // massless node of its own held by its line, the body's bridge is held by every line, and neither
+    // side needs the other's force within the step: the connection through wave variables that would
+    // let strings step apart. 0, the default: the rigid bridge solved within the step. Starts with
+    // the lines at rest. At most kMostLinked strings (step() throws beyond).
+    void setDelayedLink(double impedance);
+    double delayedLink() const { return linkImpedance_; }
+    // RT: the waves in transit on the first `count` strings' delayed links (J; part of energy()).
+    double lineEnergy(int count) const;
+    static constexpr int kMostLinked = BodyReach::kMostStrings;
+
     double bridgeDisplacement() const { return bridge_; }  // RT: w^n (m)
     double lastBridgeForce() const { return force_; }  // RT: F of the last step (N, < 0 pushing the body down)
     // Where the two channels hear the body (ModalBody::listeners). RT, no allocation.
@@ -97,6 +110,9 @@ private:
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
     void stepPart(double partForce);
+    void finishBody(double predicted, const double* read);
+    void stepLinked(ModalSolver* const* strings, int count, double predicted);
+    double solveNode(ModalSolver& string, double before, double arriving, double& node);
     void pushHeard();
     void pressuresFrom(const double* moved, double force, std::array<double, 2>& out) const;
 
@@ -126,6 +142,15 @@ private:
     int split_ = 0, count_ = 0;
     int linearFrom_ = 0;  // split_ if every string after it stands on springs (affine in W), else count_
     bool oneWay_ = false;
+    // A string's end of its delayed link: its node's displacement w^n and w^{n-1} (m), and the waves
+    // sent at the last step (N), to arrive at the string's end and at the body's at the next.
+    struct LinkEnd
+    {
+        double node = 0.0, nodeBefore = 0.0;
+        double toString = 0.0, toBody = 0.0;
+    };
+    std::array<LinkEnd, kMostLinked> links_{};
+    double linkImpedance_ = 0.0;
     double slope_ = 1.0;  // R'(W) as the last secant measured it
     int evaluations_ = 0, trials_ = 0;
 };
