@@ -131,6 +131,8 @@ TEST_CASE("bad scenes are rejected with the field named")
         {R"({"format": "jawari-scene/1", "simulation": {"rate": 20000}})", "simulation.rate: the internal rate"},
         {R"({"format": "jawari-scene/1", "simulation": {"modes": 0}})", "simulation.modes: must be between 1"},
         {R"({"format": "jawari-scene/1", "simulation": {"contact_spacing": 0}})", "simulation.contact_spacing: must be > 0"},
+        {R"({"format": "jawari-scene/1", "simulation": {"method": "realtime", "extrapolate_rate": true}})",
+         "simulation.extrapolate_rate: applies to the reference only"},
         {R"({"format": "jawari-scene/1", "simulation": {"contact_spacing": 0.6}})",
          "simulation.contact_spacing: must be between L/1e6 and L/2"},
         {R"({"format": "jawari-scene/1", "string": {"damping": {"law": "valette", "sigma3": 5e-6}}})",

@@ -204,7 +204,9 @@ void validateScene(const Scene& scene)
     if (rate < sim.outputRateHz)
         throw SceneError("simulation.rate", "the internal rate " + show(rate) + " Hz must be at least the output rate "
                                                 + std::to_string(sim.outputRateHz) + " Hz");
-    if (rate * sim.durationSeconds > 1e13)
+    if (sim.extrapolateRate && !sim.reference)
+        throw SceneError("simulation.extrapolate_rate", "applies to the reference only");
+    if ((sim.extrapolateRate ? 2.0 : 1.0) * rate * sim.durationSeconds > 1e13)
         throw SceneError("simulation.duration", "rate x duration is more than 1e13 steps");
     if (const auto spacing = sim.contactSpacingMetres; spacing && !(*spacing >= L * 1e-6 && *spacing <= 0.5 * L))
         throw SceneError("simulation.contact_spacing", "must be between L/1e6 and L/2 (" + show(L * 1e-6) + " to "
@@ -297,6 +299,7 @@ void readSimulation(const json& value, Simulation& simulation)
     }
     if (r.has("contact_spacing"))
         simulation.contactSpacingMetres = r.positive("contact_spacing", 0.0);
+    simulation.extrapolateRate = r.boolean("extrapolate_rate", simulation.extrapolateRate);
     simulation.durationSeconds = r.positive("duration", simulation.durationSeconds);
     simulation.residualCompliance = r.boolean("residual_compliance", simulation.residualCompliance);
     if (r.has("residual_compliance_loss"))

@@ -62,6 +62,9 @@ struct Simulation
     // The reference's contact points on every distributed obstacle that gives no spacing of its own
     // (m); empty: the contact grid's, L/1002 (Obstacle.h). The voice keeps its own points.
     std::optional<double> contactSpacingMetres;
+    // The reference only: rendered at the rate and at twice it, the output 2 y(2R) - y(R) (Richardson's
+    // extrapolation of an error first order in the step: a contact shorter than a step).
+    bool extrapolateRate = false;
     double durationSeconds = 1.0;
     int outputRateHz = 48000;
     bool residualCompliance = true;  // the voice's methods: the dropped modes' static compliance in series
@@ -76,6 +79,7 @@ struct Simulation
         modes.reset();
         rateHz.reset();
         contactSpacingMetres.reset();
+        extrapolateRate = false;
     }
 };
 

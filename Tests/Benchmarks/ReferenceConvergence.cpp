@@ -11,6 +11,9 @@
 //   modes-fine  M = 1001, 2003, 4001 at L/16032 (2 MHz: the points never coarser than the modes)
 //   joint    (1001, 2 MHz), (2003, 8 MHz), (4001, 32 MHz) at L/16032 (+(8003, 128 MHz) with --extend):
 //            the rate grows as M^2, as the stiff string's top mode does
+//   extrapolated  (1001, 8 MHz), (2003, 16 MHz), (4001, 32 MHz) at L/16032, each the rate extrapolated:
+//            rendered at R and 2R, 2 y(2R) - y(R) (a scene's "extrapolate_rate"), which cancels an
+//            error first order in the step (a contact shorter than it); (8003, 64 MHz) with --extend
 //
 // Per pair, with the finer rung as the reference, both outputs low-passed at 20 kHz (as in
 // jawari-accuracy): relL2 over the first 100 ms (or the whole render if shorter), and the
@@ -20,11 +23,11 @@
 // The floor row: the base against itself with the pluck's amplitude raised by 1e-4.
 // CSV to stdout, one row per render (CPU seconds, one core) and per pair; progress to stderr.
 // --cache DIR keeps every render's output, so a long study can run in chunks. --ladder adds a
-// ladder of its own (modes:rate:intervals per rung); --knobs "" runs only it. The renders a study
+// ladder of its own (modes:rate:intervals per rung, with ":x" the rate extrapolated); --knobs "" runs only it. The renders a study
 // needs run side by side, one a core (--jobs N, every core by default); the rows come out in order.
 //
-//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint] [--rungs N]
-//                      [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick] [--jobs N]
+//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated]
+//                      [--rungs N] [--ladder M:RATE:N[:x],...] [--cache DIR] [--no-floor] [--extend] [--quick] [--jobs N]
 
 #include "offline/Analysis.h"
 #include "offline/CpuClock.h"
@@ -61,6 +64,7 @@ struct Rung
     int modes = 1001;
     double rateHz = 2e6;
     int intervals = 1002;
+    bool extrapolated = false;  // rendered at rateHz and twice it: 2 y(2R) - y(R)
 };
 
 struct Ladder
@@ -83,7 +87,10 @@ std::vector<Ladder> allLadders(bool extend)
         {"modes-fine", {{1001, 2e6, 16032}, {2003, 2e6, 16032}, {4001, 2e6, 16032}}},
         // Modes and rate together, the rate as the square of the modes (a stiff string's top mode
         // grows as M^2, so the step keeps its ratio to that mode's period), the points at L/16032.
-        {"joint", {{1001, 2e6, 16032}, {2003, 8e6, 16032}, {4001, 32e6, 16032}}}};
+        {"joint", {{1001, 2e6, 16032}, {2003, 8e6, 16032}, {4001, 32e6, 16032}}},
+        // Modes and rate together with the rate extrapolated (the rate's first-order error cancelled),
+        // the rate doubling with the modes.
+        {"extrapolated", {{1001, 8e6, 16032, true}, {2003, 16e6, 16032, true}, {4001, 32e6, 16032, true}}}};
     if (extend)
     {
         ladders[0].rungs.push_back({8003, 2e6, 1002});
@@ -91,6 +98,7 @@ std::vector<Ladder> allLadders(bool extend)
         ladders[2].rungs.push_back({1001, 2e6, 8016});
         ladders[2].rungs.push_back({1001, 2e6, 16032});
         ladders[5].rungs.push_back({8003, 128e6, 16032});
+        ladders[6].rungs.push_back({8003, 64e6, 16032, true});
     }
     return ladders;
 }
@@ -99,7 +107,7 @@ struct Options
 {
     std::string scenePath = std::string(JAWARI_RESOURCES_DIR) + "/Scenes/sitar-bridge.json";
     double duration = 0.1;
-    std::vector<std::string> knobs{"modes", "rate", "spacing", "all", "modes-fine", "joint"};
+    std::vector<std::string> knobs{"modes", "rate", "spacing", "all", "modes-fine", "joint", "extrapolated"};
     size_t rungs = 100;
     std::string cacheDir;
     bool floor = true;
@@ -108,8 +116,9 @@ struct Options
     unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
 };
 
-const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint]\n"
-                     "                          [--rungs N] [--ladder M:RATE:N,...] [--cache DIR] [--no-floor] [--extend] [--quick]\n"
+const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S]\n"
+                     "                          [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated]\n"
+                     "                          [--rungs N] [--ladder M:RATE:N[:x],...] [--cache DIR] [--no-floor] [--extend] [--quick]\n"
                      "                          [--jobs N]\n";
 
 std::vector<std::string> splitCommas(const std::string& text)
@@ -145,11 +154,12 @@ bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
     for (const auto& item : splitCommas(text))
     {
         Rung r;
-        char tail = 0;
-        if (std::sscanf(item.c_str(), "%d:%lf:%d%c", &r.modes, &r.rateHz, &r.intervals, &tail) != 3
-            || r.modes < 1 || r.modes > 100000 || !(r.rateHz >= 1e3 && r.rateHz <= 1e9) || r.intervals < 2)
-            return fail("--ladder rung '" + item + "' is not M:rate_hz:intervals (M 1..100000, rate 1e3..1e9 Hz, "
-                        "intervals >= 2)");
+        char tail[3] = {};
+        const int read = std::sscanf(item.c_str(), "%d:%lf:%d%2c", &r.modes, &r.rateHz, &r.intervals, tail);
+        r.extrapolated = read == 4 && std::string(tail, 2) == ":x";
+        if ((read != 3 && !r.extrapolated) || r.modes < 1 || r.modes > 100000 || !(r.rateHz >= 1e3 && r.rateHz <= 1e9) || r.intervals < 2)
+            return fail("--ladder rung '" + item + "' is not M:rate_hz:intervals[:x] (M 1..100000, rate 1e3..1e9 Hz, "
+                        "intervals >= 2; :x the rate extrapolated)");
         rungs.push_back(r);
     }
     return rungs.size() >= 2 || fail("--ladder needs at least two rungs");
@@ -158,7 +168,7 @@ bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
 // Reads the command line into `o`; false (after a message) on anything it does not understand.
 bool parseOptions(int argc, char** argv, Options& o)
 {
-    const std::vector<std::string> known{"modes", "rate", "spacing", "all", "modes-fine", "joint"};
+    const std::vector<std::string> known{"modes", "rate", "spacing", "all", "modes-fine", "joint", "extrapolated"};
     for (int i = 1; i < argc; ++i)
     {
         const std::string a = argv[i];
@@ -209,7 +219,8 @@ bool parseOptions(int argc, char** argv, Options& o)
                 o.knobs = *v == '\0' ? std::vector<std::string>{} : splitCommas(v);
                 for (const auto& k : o.knobs)
                     if (std::find(known.begin(), known.end(), k) == known.end())
-                        return fail("unknown knob '" + k + "' (knobs: modes, rate, spacing, all, modes-fine, joint)");
+                        return fail("unknown knob '" + k
+                                    + "' (knobs: modes, rate, spacing, all, modes-fine, joint, extrapolated)");
             }
         }
         else
@@ -248,9 +259,16 @@ Scene sceneAt(const Scene& base, const Rung& r, double duration, double amplitud
 std::string cacheName(const std::string& sceneStem, const Rung& r, double duration, double amplitudeScale)
 {
     char text[256];
-    std::snprintf(text, sizeof text, "%s-d%g-M%d-R%.0f-N%d-a%.17g.bin", sceneStem.c_str(), duration, r.modes,
-                  r.rateHz, r.intervals, amplitudeScale);
+    std::snprintf(text, sizeof text, "%s-d%g-M%d-R%.0f-N%d-a%.17g%s.bin", sceneStem.c_str(), duration, r.modes,
+                  r.rateHz, r.intervals, amplitudeScale, r.extrapolated ? "-x" : "");
     return text;
+}
+
+// The two plain renders an extrapolated rung combines: at its rate and at twice it.
+std::pair<Rung, Rung> extrapolatedParts(const Rung& r)
+{
+    const Rung low{r.modes, r.rateHz, r.intervals, false};
+    return {low, Rung{r.modes, 2.0 * r.rateHz, r.intervals, false}};
 }
 
 // The cache file: cpu seconds, newton max, penetration, transform flag, sample count, samples.
@@ -323,7 +341,19 @@ public:
             std::string name;
         };
         std::vector<Job> missing;
+        std::vector<std::pair<Rung, double>> plain;
         for (const auto& [r, scale] : wanted)
+        {
+            if (!r.extrapolated)
+            {
+                plain.emplace_back(r, scale);
+                continue;
+            }
+            const auto [low, high] = extrapolatedParts(r);
+            plain.emplace_back(low, scale);
+            plain.emplace_back(high, scale);
+        }
+        for (const auto& [r, scale] : plain)
         {
             std::string name = cacheName(cacheStem_, r, options_.duration, scale);
             Rendered out;
@@ -372,6 +402,8 @@ public:
     const Rendered& render(const Rung& r, double amplitudeScale = 1.0)
     {
         const std::string name = cacheName(cacheStem_, r, options_.duration, amplitudeScale);
+        if (done_.count(name) == 0 && r.extrapolated)
+            done_.emplace(name, Entry{extrapolate(r, amplitudeScale)});
         if (done_.count(name) == 0)
             prefetch({{r, amplitudeScale}}, 1);
         Entry& entry = done_.at(name);
@@ -408,6 +440,27 @@ public:
     }
 
 private:
+    // 2 y(2R) - y(R) from the two plain renders (both low-passed alike, so the combination commutes
+    // with the filter); their CPU time summed. Empty if either failed.
+    Rendered extrapolate(const Rung& r, double amplitudeScale)
+    {
+        const auto [low, high] = extrapolatedParts(r);
+        prefetch({{low, amplitudeScale}, {high, amplitudeScale}}, options_.jobs);
+        const Rendered& y1 = done_.at(cacheName(cacheStem_, low, options_.duration, amplitudeScale)).rendered;
+        const Rendered& y2 = done_.at(cacheName(cacheStem_, high, options_.duration, amplitudeScale)).rendered;
+        Rendered out;
+        out.cpuSeconds = y1.cpuSeconds + y2.cpuSeconds;
+        out.newtonMax = std::max(y1.newtonMax, y2.newtonMax);
+        out.penetration = y2.penetration;
+        out.transform = y2.transform;
+        if (y1.output.empty() || y2.output.size() != y1.output.size())
+            return out;
+        out.output.resize(y2.output.size());
+        for (size_t i = 0; i < out.output.size(); ++i)
+            out.output[i] = 2.0 * y2.output[i] - y1.output[i];
+        return out;
+    }
+
     // A render that fails (a non-finite sample) is kept as an empty output: a row, and no pairs.
     static void renderNow(const Scene& scene, Rendered& out)
     {
@@ -431,7 +484,11 @@ private:
     {
         std::printf("render,%s,%s,%d,%.0f,%d,%zu,%s,%.4g,%d,%.3g,,,,,,\n", stem_.c_str(),
                     amplitudeScale == 1.0 ? "" : "floor", r.modes, r.rateHz, r.intervals, contactPoints(r),
-                    out.output.empty() ? "failed" : out.transform ? "transform" : "projection", out.cpuSeconds, out.newtonMax, out.penetration);
+                    out.output.empty()  ? "failed"
+                    : r.extrapolated    ? (out.transform ? "transform-extrapolated" : "projection-extrapolated")
+                    : out.transform     ? "transform"
+                                        : "projection",
+                    out.cpuSeconds, out.newtonMax, out.penetration);
         std::fflush(stdout);
     }
 
