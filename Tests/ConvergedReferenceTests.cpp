@@ -74,8 +74,6 @@ BridgeTableFigures bridgeTableFigures(const Scene& scene, const test::StoredRefe
 {
     BridgeTableFigures f;
     f.paper = againstConverged(renderScene(test::atPaperConfiguration(scene)).output, converged, scene);
-    INFO("the paper's configuration: LSD " << f.paper.lsd << " dB, relL2 " << f.paper.relL2 << ", envelope "
-                                           << f.paper.envelope << " dB, centroid " << f.paper.centroid);
     const char* names[] = {"draft", "standard", "high"};
     for (size_t k = 0; k < 3; ++k)
     {

@@ -37,6 +37,12 @@ TEST_CASE("the paper scenes load with their exact parameters")
     CHECK(*centre.simulation.modes == 1001);
     const auto tanpura = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
     CHECK(tanpura.obstacles[0].position == 0.006);
+    CHECK_FALSE(tanpura.simulation.extrapolateRate);
+    // The thread's scene names its converged configuration: the rate extrapolated.
+    const auto thread = loadSceneFile(test::resource("Scenes/tanpura-thread.json"));
+    CHECK(thread.simulation.extrapolateRate);
+    CHECK(*thread.simulation.rateHz == 16e6);
+    CHECK(*thread.simulation.modes == 2003);
 }
 
 TEST_CASE("every obstacle type and override parses")

@@ -347,8 +347,8 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options)
 }
 
 // The reference at its rate R and at 2R, combined as 2 y(2R) - y(R) (Simulation::extrapolateRate): an
-// error c / R in each cancels. The statistics and the energy log are the finer render's, the CPU
-// time both renders'.
+// error c / R in each cancels. The energy log, the rate and the modes are the finer render's; the
+// steps, Newton iterations and CPU time both renders', the largest iterations and penetration either's.
 RenderResult renderExtrapolated(const Scene& scene, const RenderOptions& options)
 {
     Scene coarse = scene;
@@ -367,7 +367,12 @@ RenderResult renderExtrapolated(const Scene& scene, const RenderOptions& options
     RenderResult result = renderReference(fine, second);
     for (size_t i = 0; i < result.output.size(); ++i)
         result.output[i] = 2.0 * result.output[i] - low.output[i];
-    result.stats.cpuSeconds += low.stats.cpuSeconds;
+    auto& stats = result.stats;
+    stats.cpuSeconds += low.stats.cpuSeconds;
+    stats.steps += low.stats.steps;
+    stats.newtonIterationsTotal += low.stats.newtonIterationsTotal;
+    stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, low.stats.newtonIterationsMax);
+    stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, low.stats.maxPenetrationMetres);
     return result;
 }
 }  // namespace

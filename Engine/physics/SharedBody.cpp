@@ -95,7 +95,7 @@ double SharedBody::energy(const ModalSolver* const* strings, int count) const
     double sum = bodyEnergy();
     if (linkImpedance_ > 0.0)
     {
-        for (int i = 0; i < count; ++i)
+        for (int i = 0; i < std::min(count, kMostLinked); ++i)
             sum += strings[i]->energyOnBridge(links_[size_t(i)].node, links_[size_t(i)].nodeBefore);
         return sum + lineEnergy(count);
     }
@@ -109,7 +109,8 @@ void SharedBody::setDelayedLink(double impedance)
     if (!(std::isfinite(impedance) && impedance >= 0.0))
         throw std::invalid_argument("a delayed link's impedance is a finite number of kg/s >= 0 (0: none)");
     linkImpedance_ = impedance;
-    links_.fill({});
+    links_.fill({bridge_, bridgeBefore_, 0.0, 0.0});  // each node where the bridge is, the lines at rest
+    resolved_ = false;
     reach_.chooseAgain();
 }
 
@@ -117,8 +118,10 @@ void SharedBody::setDelayedLink(double impedance)
 // dt a^2 / (4 R) (J).
 double SharedBody::lineEnergy(int count) const
 {
+    if (linkImpedance_ == 0.0)
+        return 0.0;
     double sum = 0.0;
-    for (int i = 0; i < count; ++i)
+    for (int i = 0; i < std::min(count, kMostLinked); ++i)
         sum += links_[size_t(i)].toString * links_[size_t(i)].toString
                + links_[size_t(i)].toBody * links_[size_t(i)].toBody;
     return dt_ / (4.0 * linkImpedance_) * sum;
@@ -263,8 +266,8 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
 }
 
 // The delayed link (setDelayedLink). Each line, of impedance R and one step's delay, carries from each
-// end C - R q, C its compression and q the velocity into the line there, to arrive at the other end
-// a step later as C + R q (the lossless line's Riemann invariants, sampled at its delay). At the
+// end C + R q, C its compression and q the velocity into the line there, to arrive at the other end
+// a step later, where it is C - R q (the lossless line's Riemann invariants, sampled at its delay). At the
 // string's end q = -v, v its node's centred velocity (w^{n+1} - w^{n-1}) / (2 dt); the node is
 // massless, so C = -F_s, F_s the string's force on it (< 0 pressing down). At the body's end q = V,
 // the bridge's centred velocity, and the body is pushed by -sum C. Given the waves arriving, the

@@ -70,7 +70,9 @@ public:
     // massless node of its own held by its line, the body's bridge is held by every line, and neither
     // side needs the other's force within the step: the connection through wave variables that would
     // let strings step apart. 0, the default: the rigid bridge solved within the step. Starts with
-    // the lines at rest. At most kMostLinked strings (step() throws beyond).
+    // the lines at rest and each node where the bridge is. Linked, every string is solved with every
+    // point live, one way is ignored and partPressure() is not kept. At most kMostLinked strings
+    // (step() throws beyond).
     void setDelayedLink(double impedance);
     double delayedLink() const { return linkImpedance_; }
     // RT: the waves in transit on the first `count` strings' delayed links (J; part of energy()).

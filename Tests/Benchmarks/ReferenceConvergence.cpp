@@ -148,16 +148,18 @@ bool fail(const std::string& message)
     return false;
 }
 
-// "M:rate:intervals,M:rate:intervals,...": at least two rungs of whole modes and intervals, a rate in Hz.
+// "M:rate:intervals[:x],...": at least two rungs of whole modes and intervals, a rate in Hz.
 bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
 {
     for (const auto& item : splitCommas(text))
     {
         Rung r;
-        char tail[3] = {};
-        const int read = std::sscanf(item.c_str(), "%d:%lf:%d%2c", &r.modes, &r.rateHz, &r.intervals, tail);
-        r.extrapolated = read == 4 && std::string(tail, 2) == ":x";
-        if ((read != 3 && !r.extrapolated) || r.modes < 1 || r.modes > 100000 || !(r.rateHz >= 1e3 && r.rateHz <= 1e9) || r.intervals < 2)
+        int used = 0;
+        const bool read = std::sscanf(item.c_str(), "%d:%lf:%d%n", &r.modes, &r.rateHz, &r.intervals, &used) == 3;
+        const std::string rest = read ? item.substr(size_t(used)) : std::string();
+        r.extrapolated = rest == ":x";
+        if (!read || !(rest.empty() || r.extrapolated) || r.modes < 1 || r.modes > 100000
+            || !(r.rateHz >= 1e3 && r.rateHz <= 1e9) || r.intervals < 2)
             return fail("--ladder rung '" + item + "' is not M:rate_hz:intervals[:x] (M 1..100000, rate 1e3..1e9 Hz, "
                         "intervals >= 2; :x the rate extrapolated)");
         rungs.push_back(r);
@@ -246,6 +248,7 @@ Scene sceneAt(const Scene& base, const Rung& r, double duration, double amplitud
 {
     Scene s = base;
     s.simulation.reference = true;
+    s.simulation.extrapolateRate = false;  // the rung decides (an extrapolated rung combines two plain renders)
     s.simulation.durationSeconds = duration;
     s.simulation.modes = r.modes;
     s.simulation.rateHz = r.rateHz;
@@ -269,6 +272,24 @@ std::pair<Rung, Rung> extrapolatedParts(const Rung& r)
 {
     const Rung low{r.modes, r.rateHz, r.intervals, false};
     return {low, Rung{r.modes, 2.0 * r.rateHz, r.intervals, false}};
+}
+
+// The plain renders that the wanted (rung, pluck scale) pairs need: an extrapolated rung's two parts.
+std::vector<std::pair<Rung, double>> plainRenders(const std::vector<std::pair<Rung, double>>& wanted)
+{
+    std::vector<std::pair<Rung, double>> plain;
+    for (const auto& [r, scale] : wanted)
+    {
+        if (!r.extrapolated)
+        {
+            plain.emplace_back(r, scale);
+            continue;
+        }
+        const auto [low, high] = extrapolatedParts(r);
+        plain.emplace_back(low, scale);
+        plain.emplace_back(high, scale);
+    }
+    return plain;
 }
 
 // The cache file: cpu seconds, newton max, penetration, transform flag, sample count, samples.
@@ -341,19 +362,7 @@ public:
             std::string name;
         };
         std::vector<Job> missing;
-        std::vector<std::pair<Rung, double>> plain;
-        for (const auto& [r, scale] : wanted)
-        {
-            if (!r.extrapolated)
-            {
-                plain.emplace_back(r, scale);
-                continue;
-            }
-            const auto [low, high] = extrapolatedParts(r);
-            plain.emplace_back(low, scale);
-            plain.emplace_back(high, scale);
-        }
-        for (const auto& [r, scale] : plain)
+        for (const auto& [r, scale] : plainRenders(wanted))
         {
             std::string name = cacheName(cacheStem_, r, options_.duration, scale);
             Rendered out;
