@@ -277,6 +277,7 @@ LADDER_STYLE = {
     "spacing": ("contact spacing", "tab:green", "D"),
     "all": ("all together", "tab:purple", "x"),
     "joint": ("modes with the rate as M^2 (points L/16032)", "tab:brown", "v"),
+    "extrapolated": ("modes with the rate extrapolated, 2 y(2R) - y(R) (points L/16032)", "tab:cyan", "P"),
 }
 
 
