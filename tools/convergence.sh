@@ -27,8 +27,9 @@ run --scene Resources/Scenes/tanpura-thread.json --knobs '' --no-floor --ladder 
 # converged configuration refined once in each knob.
 run --scene Resources/Scenes/paper-tanpura.json --knobs joint --no-floor
 run --scene Resources/Scenes/tanpura-thread.json --knobs '' --no-floor --ladder 4001:32e6:1002,4001:64e6:1002,8003:128e6:1002
-# The point contacts with the rate extrapolated (tanpura-thread's converged configuration).
+# The rate extrapolated: the point contact settles (tanpura-thread's converged configuration), the plain parabola not.
 run --scene Resources/Scenes/tanpura-thread.json --knobs extrapolated --no-floor
+run --scene Resources/Scenes/parabola-bridge.json --knobs extrapolated --no-floor
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,8003:4e6:16032
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,4001:8e6:16032
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,4001:4e6:32064
