@@ -1,14 +1,15 @@
 // The points out of reach on a shared body (BodyReach.h): left out of the strings' solves, they
 // never touch, the motion is the one with every point live, and the energy balance holds.
 
+#include "SharedBodySupport.h"
 #include "TestSupport.h"
 #include "offline/Scene.h"
 #include "physics/FactoryBodies.h"
 #include "physics/SharedBody.h"
 #include "physics/StringDiscretisation.h"
 #include "physics/StringModel.h"
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <deque>
 #include <string>
@@ -18,51 +19,11 @@ using namespace jawari;
 
 namespace
 {
-constexpr int kModes = 150;
-constexpr double kRate = 192000.0;
-
-struct Strings
-{
-    std::deque<ModalSolver> solvers;  // built in place: a solver is not copied
-    std::vector<ModalSolver*> pointers;
-};
-
-// The scenes' strings at kModes modes and kRate, lossless when asked; the ones `plucked` from the
-// scene's pluck, the others at rest; each string left to choose its points or with every one live.
-Strings stringsOf(const std::vector<Scene>& scenes, const std::vector<bool>& plucked, bool reach, bool lossless)
-{
-    Strings s;
-    for (size_t i = 0; i < scenes.size(); ++i)
-    {
-        auto string = scenes[i].string;
-        if (lossless)
-            string.damping.law = DampingLaw::none;
-        auto config = stringSolverConfig(string, scenes[i].obstacles, kModes, kRate, scenes[i].pickup.position,
-                                         PickupQuantity::displacement);
-        config.leaveOutOfReach = reach;
-        auto& solver = s.solvers.emplace_back(config);
-        if (plucked[i])
-            solver.setInitialDisplacement(pluckModalShape(string.lengthMetres, kModes, scenes[i].excitation.position,
-                                                          scenes[i].excitation.amplitude));
-    }
-    for (auto& solver : s.solvers)
-        s.pointers.push_back(&solver);
-    return s;
-}
-
-ModalBody tanpuraBody(bool lossless)
-{
-    ModalBody body = *factoryBody("tanpura");
-    if (lossless)
-        for (auto& mode : body.modes)
-            mode.sigma = 0.0;
-    return body;
-}
-
-Scene scene(const std::string& name)
-{
-    return loadSceneFile(test::resource("Scenes/" + name));
-}
+using test::scene;
+using test::stringsOf;
+using test::tanpuraBody;
+constexpr int kModes = test::kBodyTestModes;
+constexpr double kRate = test::kBodyTestRate;
 
 // The highest of h_j + w^n - u_j^n over the points string s leaves out (from its whole modal
 // state), and how many it leaves out.

@@ -2,6 +2,7 @@
 // meets the body through a lossless line whose waves take one step. Its energy balance holds with
 // the waves in transit counted, and it differs from the rigid bridge at first order in the step.
 
+#include "SharedBodySupport.h"
 #include "TestSupport.h"
 
 #include "offline/Analysis.h"
@@ -9,12 +10,10 @@
 #include "offline/Scene.h"
 #include "physics/FactoryBodies.h"
 #include "physics/SharedBody.h"
-#include "physics/StringDiscretisation.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <deque>
 #include <string>
 #include <vector>
 
@@ -22,27 +21,24 @@ using namespace jawari;
 
 namespace
 {
-Scene sceneNamed(const std::string& name)
-{
-    return loadSceneFile(test::resource("Scenes/" + name));
-}
+using test::scene;
 
 // tanpura-sa with tanpura-pa beside it on the tanpura body, the body's radiated sound the output,
 // by the voice at `rateHz` (its automatic modes: 253 at every rate here).
 Scene droneOnBody(double rateHz, double seconds)
 {
-    Scene scene = sceneNamed("tanpura-sa.json");
-    const Scene pa = sceneNamed("tanpura-pa.json");
-    scene.body = SceneBody{*factoryBody("tanpura"), {0}, 1.0, {}};
-    scene.body->strings.push_back({pa.string, pa.obstacles, pa.excitation});
-    scene.body->strings.back().excitation.position = 0.45;
-    scene.pickup.quantity = PickupQuantity::pressure;
-    scene.simulation.reference = false;
-    scene.simulation.forgetConfiguration();
-    scene.simulation.rateHz = rateHz;
-    scene.simulation.modes = 253;
-    scene.simulation.durationSeconds = seconds;
-    return scene;
+    Scene drone = scene("tanpura-sa.json");
+    const Scene pa = scene("tanpura-pa.json");
+    drone.body = SceneBody{*factoryBody("tanpura"), {0}, 1.0, {}};
+    drone.body->strings.push_back({pa.string, pa.obstacles, pa.excitation});
+    drone.body->strings.back().excitation.position = 0.45;
+    drone.pickup.quantity = PickupQuantity::pressure;
+    drone.simulation.reference = false;
+    drone.simulation.forgetConfiguration();
+    drone.simulation.rateHz = rateHz;
+    drone.simulation.modes = 253;
+    drone.simulation.durationSeconds = seconds;
+    return drone;
 }
 }  // namespace
 
@@ -51,32 +47,17 @@ TEST_CASE("A delayed link keeps the joined energy with its waves in transit: 1e-
 {
     // tanpura-sa and tanpura-pa plucked, lossless, each on its own line of 20 kg/s to the lossless
     // tanpura body, 150 modes at 192 kHz.
-    constexpr int kModes = 150;
-    constexpr double kRate = 192000.0;
-    ModalBody body = *factoryBody("tanpura");
-    for (auto& mode : body.modes)
-        mode.sigma = 0.0;
-    std::deque<ModalSolver> solvers;
-    std::vector<ModalSolver*> strings;
-    for (const char* name : {"tanpura-sa.json", "tanpura-pa.json"})
-    {
-        Scene scene = sceneNamed(name);
-        scene.string.damping.law = DampingLaw::none;
-        auto& solver = solvers.emplace_back(stringSolverConfig(scene.string, scene.obstacles, kModes, kRate,
-                                                               scene.pickup.position, PickupQuantity::displacement));
-        solver.setInitialDisplacement(
-            pluckModalShape(scene.string.lengthMetres, kModes, scene.excitation.position, scene.excitation.amplitude));
-        strings.push_back(&solver);
-    }
-    SharedBody shared(body, 1.0, 1.0 / kRate);
+    const ModalBody body = test::tanpuraBody(true);
+    auto strings = test::stringsOf({scene("tanpura-sa.json"), scene("tanpura-pa.json")}, {true, true}, true, true);
+    SharedBody shared(body, 1.0, 1.0 / test::kBodyTestRate);
     shared.setDelayedLink(20.0);
-    const double H0 = shared.energy(strings.data(), 2);
+    const double H0 = shared.energy(strings.pointers.data(), 2);
     double drift = 0.0, inTransit = 0.0, bridge = 0.0;
     long pressing = 0;
     for (long n = 0; n < 100000; ++n)
     {
-        shared.step(strings.data(), 2);
-        drift = std::max(drift, std::abs(shared.energy(strings.data(), 2) / H0 - 1.0));
+        shared.step(strings.pointers.data(), 2);
+        drift = std::max(drift, std::abs(shared.energy(strings.pointers.data(), 2) / H0 - 1.0));
         inTransit = std::max(inTransit, shared.lineEnergy(2) / H0);
         bridge = std::max(bridge, std::abs(shared.bridgeDisplacement()));
         pressing += shared.lastBridgeForce() != 0.0;

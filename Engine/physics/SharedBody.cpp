@@ -228,6 +228,26 @@ double secant(ResidualOf&& residual, Tolerance&& tolerance, double w0, Residual 
         w1 -= r1.value / slope;
     }
 }
+
+// The root of a residual from w: the secant first on trials (`onTrials`: NaN where a string has none,
+// then skipped), then on solves (`onSolves`) from the trials' answer, each at most 16 evaluations,
+// counted into `trials` and `solves`. The strings keep the solve of the W returned.
+template <typename OnTrials, typename OnSolves, typename Tolerance>
+double secantOnTrialsThenSolves(OnTrials&& onTrials, OnSolves&& onSolves, Tolerance&& tolerance, double w,
+                                double& slope, int& trials, int& solves)
+{
+    constexpr int kMostEvaluations = 16;
+    if (const Residual first = onTrials(w); std::isfinite(first.value))
+    {
+        int evaluations = 1;
+        w = secant(onTrials, tolerance, w, first, slope, evaluations, kMostEvaluations);
+        trials += evaluations;
+    }
+    int evaluations = 1;
+    w = secant(onSolves, tolerance, w, onSolves(w), slope, evaluations, kMostEvaluations);
+    solves += evaluations;
+    return w;
+}
 }  // namespace
 
 // W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the W that solves it with the played
@@ -242,27 +262,18 @@ double SharedBody::solveBridge(ModalSolver* const* strings, double before, doubl
     if (linearFrom_ < count_)
         fitLinear(strings, before, predicted + beta_ * force_);
     auto linear = [&](double w) { return linearFrom_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
-    double w = (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
-    constexpr int kMostEvaluations = 16;
+    const double w =
+        (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
     auto trialResidual = [&](double x) {
         double dForce = 0.0;
         const double force = trialForce(strings, 0, linearFrom_, before, x, &dForce);
         return Residual{x - predicted - beta_ * (force + linear(x)),
                         1.0 - beta_ * (dForce + (linearFrom_ < count_ ? linearSlope_ : 0.0))};
     };
-    if (const Residual first = trialResidual(w); std::isfinite(first.value))
-    {
-        int trials = 1;
-        w = secant(trialResidual, tolerance, w, first, slope_, trials, kMostEvaluations);
-        trials_ += trials;
-    }
     auto residual = [&](double x) {
         return Residual{x - predicted - beta_ * (evaluate(strings, before, x) + linear(x))};
     };
-    int evaluations = 1;
-    w = secant(residual, tolerance, w, residual(w), slope_, evaluations, kMostEvaluations);
-    evaluations_ += evaluations;
-    return w;
+    return secantOnTrialsThenSolves(trialResidual, residual, tolerance, w, slope_, trials_, evaluations_);
 }
 
 // The delayed link (setDelayedLink). Each line, of impedance R and one step's delay, carries from each
@@ -314,29 +325,19 @@ double SharedBody::solveNode(ModalSolver& string, double before, double arriving
 {
     const double k = 2.0 * dt_ / linkImpedance_;
     auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(k * arriving)) + 1e-30; };
-    constexpr int kMostEvaluations = 16;
-    double slope = 1.0;
-    double w = before + k * arriving;
     auto trialResidual = [&](double x) {
         double dForce = 0.0;
         const double force = string.trialOnMovingBridge(before, x - before, &dForce);
         return Residual{x - before - k * (arriving + force), 1.0 - k * dForce};
     };
-    if (const Residual first = trialResidual(w); std::isfinite(first.value))
-    {
-        int trials = 1;
-        w = secant(trialResidual, tolerance, w, first, slope, trials, kMostEvaluations);
-        trials_ += trials;
-    }
     double force = 0.0;
     auto residual = [&](double x) {
         force = string.solveOnMovingBridge(before, x - before);
         return Residual{x - before - k * (arriving + force)};
     };
-    int evaluations = 1;
-    w = secant(residual, tolerance, w, residual(w), slope, evaluations, kMostEvaluations);
-    evaluations_ += evaluations;
-    node = w;
+    double slope = 1.0;
+    node = secantOnTrialsThenSolves(trialResidual, residual, tolerance, before + k * arriving, slope, trials_,
+                                    evaluations_);
     return force;
 }
 

@@ -74,7 +74,6 @@ public:
     // point live, one way is ignored and partPressure() is not kept. At most kMostLinked strings
     // (step() throws beyond).
     void setDelayedLink(double impedance);
-    double delayedLink() const { return linkImpedance_; }
     // RT: the waves in transit on the first `count` strings' delayed links (J; part of energy()).
     double lineEnergy(int count) const;
     static constexpr int kMostLinked = BodyReach::kMostStrings;
