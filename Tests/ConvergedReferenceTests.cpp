@@ -38,7 +38,7 @@ AccuracyFigures againstConverged(const std::vector<double>& y, const test::Store
 // rounds differently.
 void checkStoredIsRender(const std::string& name)
 {
-    const auto scene = loadSceneFile(test::resource("Scenes/" + name + ".json"));
+    const auto scene = test::scene(name + ".json");
     const auto rendered = renderScene(scene).output;
     const auto stored = test::storedReference(name);
     REQUIRE(rendered.size() == stored.samples.size());
@@ -111,7 +111,7 @@ test::StoredReference checkedStored(const std::string& name, uint64_t hash)
 BridgeTableFigures checkBridgeTable(const std::string& name, uint64_t hash, double paper,
                                     const std::array<double, 3>& measured, double standardBound)
 {
-    const auto scene = loadSceneFile(test::resource("Scenes/" + name + ".json"));
+    const auto scene = test::scene(name + ".json");
     const auto f = bridgeTableFigures(scene, checkedStored(name, hash));
     CHECK(f.paper.lsd == Approx(paper).epsilon(0.1));
     for (size_t k = 0; k < 3; ++k)

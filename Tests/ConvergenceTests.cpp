@@ -52,7 +52,7 @@ TEST_CASE("the voice at the reference's modes and rate: its envelope within the 
     for (const auto& expected : kVoiceDistances)
     {
         const char* name = expected.scene;
-        auto scene = test::atPaperConfiguration(loadSceneFile(test::resource(std::string("Scenes/") + name + ".json")));
+        auto scene = test::atPaperConfiguration(test::scene(std::string(name) + ".json"));
         scene.simulation.durationSeconds = seconds;
         scene.simulation.rateHz = 42 * 48000.0;  // 2.016 MHz: the reference's rate, a whole multiple for the voice
         // The voice (1001 modes, nothing dropped) and the reference, and the reference against itself
@@ -92,7 +92,7 @@ TEST_CASE("a bridge's contact points are its own: from 197 to 260 modes the voic
           "with the bridge on the mode grid")
 {
     const double seconds = 0.5;
-    auto scene = test::atPaperConfiguration(loadSceneFile(test::resource("Scenes/sitar-bridge.json")));
+    auto scene = test::atPaperConfiguration(test::scene("sitar-bridge.json"));
     scene.simulation.durationSeconds = seconds;
     const double L = scene.string.lengthMetres;
     // The voice at standard's rate with 197 and 260 modes, the bridge on its fixed points and, for
@@ -150,7 +150,7 @@ TEST_CASE("reading the modes above Nyquist statically moves the voice far less t
                                         Case{"bass-frets", PickupQuantity::displacement}})
         for (const char* quality : {"standard", "high"})
         {
-            auto scene = test::atPaperConfiguration(loadSceneFile(test::resource(std::string("Scenes/") + name + ".json")));
+            auto scene = test::atPaperConfiguration(test::scene(std::string(name) + ".json"));
             scene.pickup.quantity = quantity;
             scene.simulation.durationSeconds = seconds;
             const auto reference = renderScene(scene);

@@ -159,7 +159,7 @@ TEST_CASE("points out of the string's reach never touch, and leaving them out ch
 {
     // The Sitar scene's string on its bridge (23 coupled points at L/1002), with losses, at the
     // standard 197 modes and 288 kHz, with and without the points out of reach left out.
-    const auto scene = loadSceneFile(test::resource("Scenes/sitar-bridge.json"));
+    const auto scene = test::scene("sitar-bridge.json");
     const int M = 197;
     auto config = stringSolverConfig(scene.string, scene.obstacles, M, 288000.0, scene.pickup.position,
                                      PickupQuantity::displacement);

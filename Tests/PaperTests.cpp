@@ -23,9 +23,9 @@ const PaperRuns& paperRuns()
         PaperRuns r;
         RenderOptions options;
         options.logEnergy = true;
-        auto centre = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+        auto centre = test::scene("paper-centre.json");
         r.centre = renderScene(centre, options);
-        r.tanpura = renderScene(loadSceneFile(test::resource("Scenes/paper-tanpura.json")), options);
+        r.tanpura = renderScene(test::scene("paper-tanpura.json"), options);
         centre.obstacles.clear();
         r.free = renderScene(centre, options);
         return r;

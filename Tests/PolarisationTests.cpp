@@ -350,7 +350,7 @@ TEST_CASE("With two polarisations the tanpura's band of overtones still falls as
     // partials the contact raises moves down as the string loses energy. The paper's tanpura scene,
     // by the voice at its automatic quality, with a second polarisation coupled at the far end and
     // the pluck 0.3 rad out of the vertical.
-    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    auto scene = test::scene("paper-tanpura.json");
     scene.simulation.reference = false;
     scene.simulation.contact = ContactMethod::quadraticSpline;
     scene.simulation.forgetConfiguration();
@@ -437,7 +437,7 @@ namespace
 // voice at its automatic quality, with one polarisation or two.
 Scene threadedTanpuraScene(double offset, bool twoPolarisations)
 {
-    auto scene = loadSceneFile(test::resource("Scenes/tanpura-thread.json"));
+    auto scene = test::scene("tanpura-thread.json");
     scene.simulation.reference = false;
     scene.simulation.contact = ContactMethod::energyConserving;
     scene.simulation.forgetConfiguration();

@@ -73,7 +73,7 @@ TEST_CASE("a sampled profile: the projection's decoupled solves and the DST path
 
 TEST_CASE("the render pipeline gives the same output through either path")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    auto scene = test::scene("paper-tanpura.json");
     scene.simulation.durationSeconds = 0.03;
     RenderOptions projection, transform;
     projection.path = ContactPath::projection;
@@ -97,7 +97,7 @@ TEST_CASE("the render pipeline gives the same output through either path")
 TEST_CASE("a scene's contact spacing places the reference's points on a bridge, as the bridge's own spacing "
           "would, and leaves an obstacle's own spacing and the voice's points alone")
 {
-    auto scene = test::atPaperConfiguration(loadSceneFile(test::resource("Scenes/sitar-bridge.json")));
+    auto scene = test::atPaperConfiguration(test::scene("sitar-bridge.json"));
     scene.simulation.durationSeconds = 0.03;
     const double L = scene.string.lengthMetres;
     auto render = [](Scene s) { return renderScene(s).output; };
@@ -129,7 +129,7 @@ TEST_CASE("the reference with its rate extrapolated is 2 y(2R) - y(R), and cance
     // paper-tanpura's point 6 mm from the end at 1e13 N/m^1.3 (a contact shorter than a step), its
     // 1001 modes over 30 ms: renders at R against (32, 64 MHz) extrapolated. (With 200 modes the rate
     // converges more slowly than at first order, and extrapolating gains nothing.)
-    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    auto scene = test::scene("paper-tanpura.json");
     scene.simulation.durationSeconds = 0.03;
     auto at = [&](double rate, bool extrapolated) {
         Scene s = scene;

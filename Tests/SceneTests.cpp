@@ -28,18 +28,18 @@ TEST_CASE("a scene with only its format gets the paper's defaults")
 
 TEST_CASE("the paper scenes load with their exact parameters")
 {
-    const auto centre = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    const auto centre = test::scene("paper-centre.json");
     REQUIRE(centre.obstacles.size() == 1);
     CHECK(centre.obstacles[0].position == 0.501);
     CHECK(centre.obstacles[0].law.stiffness == 1e13);
     CHECK(centre.obstacles[0].law.exponent == 1.3);
     CHECK(*centre.simulation.rateHz == 2e6);
     CHECK(*centre.simulation.modes == 1001);
-    const auto tanpura = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    const auto tanpura = test::scene("paper-tanpura.json");
     CHECK(tanpura.obstacles[0].position == 0.006);
     CHECK_FALSE(tanpura.simulation.extrapolateRate);
     // The thread's scene names its converged configuration: the rate extrapolated.
-    const auto thread = loadSceneFile(test::resource("Scenes/tanpura-thread.json"));
+    const auto thread = test::scene("tanpura-thread.json");
     CHECK(thread.simulation.extrapolateRate);
     CHECK(*thread.simulation.rateHz == 16e6);
     CHECK(*thread.simulation.modes == 2003);

@@ -57,10 +57,4 @@ inline ModalBody tanpuraBody(bool lossless)
     return body;
 }
 
-// Resources/Scenes/NAME.
-inline Scene scene(const std::string& name)
-{
-    return loadSceneFile(resource("Scenes/" + name));
-}
-
 }  // namespace jawari::test

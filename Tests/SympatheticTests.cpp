@@ -306,7 +306,7 @@ TEST_CASE("The voice with sympathetic strings on the body against the reference:
     // radiated sound over 1 s: the voices on the instrument's SharedBody (the "realtime" method)
     // against the reference's one joined solver, both low-passed at 20 kHz as the body's quality
     // table is (docs/measurements.md, "The voice through the body").
-    Scene scene = loadSceneFile(test::resource("Scenes/tanpura-sa.json"));
+    Scene scene = test::scene("tanpura-sa.json");
     const double sa = scene.string.flexibleFundamentalHz();
     std::ostringstream body;
     body.precision(17);

@@ -66,6 +66,12 @@ inline std::string resource(const std::string& name)
     return std::string(JAWARI_RESOURCES_DIR) + "/" + name;
 }
 
+// Resources/Scenes/NAME, read and validated.
+inline Scene scene(const std::string& name)
+{
+    return loadSceneFile(resource("Scenes/" + name));
+}
+
 // The scene's reference at the paper's configuration (1001 modes at 2 MHz, a distributed obstacle's
 // points on that grid unless it gives its own), whatever converged configuration the scene names.
 inline Scene atPaperConfiguration(Scene scene)

@@ -80,7 +80,7 @@ namespace
 template <typename Change>
 std::vector<double> renderC3(Change&& change)
 {
-    auto scene = loadSceneFile(test::resource("Scenes/dafx16-c3.json"));
+    auto scene = test::scene("dafx16-c3.json");
     change(scene);
     return renderScene(scene).output;
 }
@@ -181,7 +181,7 @@ TEST_CASE("scenes name a thread's model, lay it alone or across a bridge, push w
           "what has no meaning",
           "[thread][scene]")
 {
-    const auto c3 = loadSceneFile(test::resource("Scenes/dafx16-c3.json"));
+    const auto c3 = test::scene("dafx16-c3.json");
     REQUIRE(c3.obstacles.size() == 2);
     CHECK(c3.obstacles[1].type == ObstacleType::band);
     CHECK(c3.obstacles[1].position == 0.005);

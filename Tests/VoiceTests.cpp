@@ -33,7 +33,7 @@ TEST_CASE("the voice equals the reference with M = N - 1 and the contact on the 
 {
     for (const char* name : {"paper-centre.json", "paper-tanpura.json"})
     {
-        auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
+        auto scene = test::scene(name);
         const int M = 400;
         const double rate = 480000.0;
         scene.simulation.modes = M;
@@ -61,7 +61,7 @@ TEST_CASE("the voice equals the reference with M = N - 1 and the contact on the 
 
 TEST_CASE("the voice starts bounded when its grid is finer than its rate (M = 1001 at 192 kHz)")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.simulation.durationSeconds = 0.2;
     RenderOptions options;
     options.logEnergy = true;
@@ -83,7 +83,7 @@ TEST_CASE("the voice starts bounded when its grid is finer than its rate (M = 10
 
 TEST_CASE("note-off rings the string down by 60 dB in its release time and a new pluck sounds again")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    auto scene = test::scene("paper-tanpura.json");
     auto config = voiceFor(scene, 200, 8, 48000.0);
     config.releaseSeconds = 0.2;
     Voice voice(config);
@@ -109,7 +109,7 @@ TEST_CASE("note-off rings the string down by 60 dB in its release time and a new
 
 TEST_CASE("the automatic quality gives the standard setting's modes and rate for the paper string")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.simulation.reference = false;
     scene.simulation.forgetConfiguration();
     const auto q = automaticQuality(scene);
@@ -127,7 +127,7 @@ TEST_CASE("the automatic quality gives the standard setting's modes and rate for
 
 TEST_CASE("the quadratised method conserves its energy while in contact and never gains any (no losses)")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.string.damping.law = DampingLaw::none;
     auto config = voiceFor(scene, 200, 8, 48000.0);
     config.method = ContactMethod::quadratised;
@@ -162,7 +162,7 @@ TEST_CASE("the quadratised method conserves its energy while in contact and neve
 
 TEST_CASE("with the residual compliance as backward Euler (theta = 1) the energy only ever decreases (lossless string)")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-tanpura.json"));
+    auto scene = test::scene("paper-tanpura.json");
     scene.string.damping.law = DampingLaw::none;
     for (auto method : {ContactMethod::energyConserving, ContactMethod::quadratised})
     {
@@ -247,8 +247,7 @@ TEST_CASE("every scene made lossless keeps its voice's energy to 1e-9 over 1e5 s
                              "tanpura-sa.json", "tanpura-thread.json"})
         for (bool compliance : {true, false})
         {
-            const auto run = losslessVoiceRun(loadSceneFile(test::resource(std::string("Scenes/") + name)),
-                                              compliance, 100000);
+            const auto run = losslessVoiceRun(test::scene(name), compliance, 100000);
             INFO(name << (compliance ? " with" : " without") << " the residual compliance: largest |H - H0| / H0 "
                       << run.drift << ", peak contact energy " << run.peakContactEnergy << " J");
             CHECK(run.drift < 1e-9);
@@ -263,7 +262,7 @@ TEST_CASE("the residual compliance keeps what dropped modes that hardly decay wo
     // DAFx-16's C3 string on its flat bridge, no thread, the triangular pluck, every mode at 0.6 /s:
     // the energy the bridge pushes into the dropped modes rings there and comes back. Its centroid
     // from the 10th partial to 16 kHz, 0.9-1.1 s over 0.1-0.3 s (100 ms frames).
-    auto scene = loadSceneFile(test::resource("Scenes/dafx16-c3.json"));
+    auto scene = test::scene("dafx16-c3.json");
     scene.obstacles.pop_back();  // the thread
     scene.excitation.force.reset();
     scene.excitation.amplitude = 1.5e-3;
@@ -283,7 +282,7 @@ TEST_CASE("the residual compliance keeps what dropped modes that hardly decay wo
 
 TEST_CASE("the voice of DAFx-16's string with its damped thread: the damper only ever takes energy", "[thread]")
 {
-    const auto scene = loadSceneFile(test::resource("Scenes/dafx16-c3.json"));
+    const auto scene = test::scene("dafx16-c3.json");
     for (bool compliance : {true, false})
     {
         const auto run = losslessVoiceRun(scene, compliance, 100000, true);
@@ -299,7 +298,7 @@ TEST_CASE("every method gives finite output on the paper scenes and the penalty 
     for (const char* name : {"paper-centre.json", "paper-tanpura.json"})
         for (auto method : {ContactMethod::energyConserving, ContactMethod::quadratised, ContactMethod::penalty})
         {
-            auto scene = loadSceneFile(test::resource(std::string("Scenes/") + name));
+            auto scene = test::scene(name);
             auto config = voiceFor(scene, 190, 8, 48000.0);
             config.method = method;
             Voice voice(config);
@@ -328,7 +327,7 @@ TEST_CASE("every method gives finite output on the paper scenes and the penalty 
 
 TEST_CASE("the voice plays in tune at every host rate from 22.05 kHz to 192 kHz")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     for (double host : {22050.0, 44100.0, 48000.0, 50000.0, 88200.0, 96000.0, 192000.0})
     {
         scene.simulation.reference = false;
@@ -354,7 +353,7 @@ TEST_CASE("the voice plays in tune at every host rate from 22.05 kHz to 192 kHz"
 
 TEST_CASE("a scene without obstacles gets no oversampling and only the audible modes, and stays exact")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.obstacles.clear();
     scene.simulation.reference = false;
     scene.simulation.forgetConfiguration();
@@ -382,7 +381,7 @@ TEST_CASE("the standard voice of a free string is the reference's string at the 
     // (after the latency the renderer removes), and both must start from the string held in its
     // shape (no step at t = 0, which each filter would smear differently). A fraction of a host
     // sample early shows as relL2 of order 0.1 at 100 ms; the step, as 1e-3 to 3e-3.
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.obstacles.clear();
     scene.simulation.durationSeconds = 0.12;
     const auto reference = renderScene(scene);
@@ -409,7 +408,7 @@ TEST_CASE("the standard voice of a free string is the reference's string at the 
 
 TEST_CASE("the reach bound holds and an obstacle beyond it is modelled as no obstacle")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.simulation.durationSeconds = 0.3;
     // The bound: the free string (reference) never goes beyond reachAt / 1.25 at 40 points.
     {
@@ -470,7 +469,7 @@ TEST_CASE("the reach bound holds and an obstacle beyond it is modelled as no obs
 TEST_CASE("contact points beyond the string's reach are left out of the voice and change nothing")
 {
     // A long parabolic bridge under the middle of the string: only its crest can be reached.
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     Obstacle bridge;
     bridge.type = ObstacleType::parabola;
     bridge.position = 0.501;
@@ -502,7 +501,7 @@ TEST_CASE("contact points beyond the string's reach are left out of the voice an
 
 TEST_CASE("a soft obstacle gets a lower automatic rate and stays within the standard bound")
 {
-    auto scene = loadSceneFile(test::resource("Scenes/paper-centre.json"));
+    auto scene = test::scene("paper-centre.json");
     scene.obstacles[0].law = {1e7, 1.0};  // soft: a contact time constant of about 92 us
     scene.simulation.reference = false;
     scene.simulation.forgetConfiguration();
