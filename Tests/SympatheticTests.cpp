@@ -541,10 +541,10 @@ UnisonRun pairOnBody(double fA, double fB, const ModalBody& body, double seconds
 
 // The pair's two normal modes near `hz` from their first modal coordinates over [from, to) s at
 // 192 kHz, as lambda (1/s: -decay + i 2 pi f, the slower decay first). Each coordinate is brought
-// down by e^{-i 2 pi hz t} and averaged over one period of hz, which removes the partials above and
-// the image at -2 hz and keeps each normal mode's exponential (a time-invariant filter scales each
-// one, never moves it). The complex envelopes a(t) then follow a(t + D) = Q a(t), D = 1 ms, with
-// Q = exp(M D) whose eigenvalues give the modes: Q fitted by least squares every half millisecond.
+// down by e^{-i 2 pi hz t} and averaged over one period of hz (rounded to whole steps), which all but
+// removes the partials above and the image at -2 hz and keeps each normal mode's exponential (a time-invariant filter
+// scales each one, never moves it). The complex envelopes a(t) then follow a(t + D) = Q a(t), D = 1 ms, with Q = exp(M
+// D) whose eigenvalues give the modes: Q fitted by least squares every half millisecond.
 std::array<std::complex<double>, 2> normalModes(const UnisonRun& run, double hz, double from, double to)
 {
     const double rate = 192000.0, w = 2.0 * std::numbers::pi * hz;
@@ -565,6 +565,8 @@ std::array<std::complex<double>, 2> normalModes(const UnisonRun& run, double hz,
             a[Eigen::Index(c)] = (sums[c][k] - sums[c][k - size_t(period)]) / double(period);
         return a;
     };
+    REQUIRE(from * rate >= period);  // a whole period before the first envelope
+    REQUIRE(std::min(to * rate, double(n)) >= from * rate + ahead + stride);  // and some to fit
     const size_t first = size_t(from * rate), last = std::min(size_t(to * rate), n) - size_t(ahead);
     const Eigen::Index rows = Eigen::Index((last - first) / size_t(stride));
     Eigen::MatrixXcd X(rows, 2), Y(rows, 2);
@@ -603,20 +605,22 @@ TEST_CASE("Two strings on one bridge, mistuned: their normal modes lock in pitch
     // strings' own decay, the other takes twice the bridge's loss), and beyond it (delta > gamma) they
     // decay alike at sigma_0 + gamma and their pitches split by 2 sqrt(delta^2 - gamma^2), less than the
     // strings' own 2 delta (J. O. Smith, Physical Audio Signal Processing, "Coupled strings
-    // eigenanalysis", the same at unison). The bridge here: one body mode at the strings' pitch, so
-    // resistive there (Y = 1 / (2 m sigma_b) at resonance), broad beside every split (Q = 5).
+    // eigenanalysis", the same at unison). The bridge here: one body mode at the strings' nominal pitch
+    // (they sound 0.8 % above it), so nearly resistive there (Y = 1 / (2 m sigma_b) at resonance; c's
+    // imaginary part is 3 % of its real part), and broad beside every split (Q = 5).
     const double hz = 370.0, seconds = 1.2, from = 0.05;
     ModalBody body;
     body.modes.push_back({hz, std::numbers::pi * hz / 5.0, 0.1});
     // At unison the anti-phase mode is the strings' own (the bridge never moves): iw_0 - sigma_0; the
     // in-phase mode is iw_0 - sigma_0 - 2c, which measures c.
-    const double near = normalModes(pairOnBody(hz, hz, body, seconds), hz, from, seconds)[0].imag();
-    const auto unison = normalModes(pairOnBody(hz, hz, body, seconds), near / (2.0 * std::numbers::pi), from, seconds);
+    const auto unisonRun = pairOnBody(hz, hz, body, seconds);
+    const double near = normalModes(unisonRun, hz, from, seconds)[0].imag();  // demodulated again there
+    const auto unison = normalModes(unisonRun, near / (2.0 * std::numbers::pi), from, seconds);
     const std::complex<double> own = unison[0], c = 0.5 * (unison[0] - unison[1]);
     INFO("at unison: anti-phase " << describe(unison[0]) << ", in-phase " << describe(unison[1]) << ": c = " << c
                                   << " /s");
     REQUIRE(c.real() > 1.0);              // a coupling worth measuring within the second
-    CHECK(-own.real() < 0.5 * c.real());  // the anti-phase mode keeps the strings' own decay
+    CHECK(-own.real() < 0.4 * c.real());  // the anti-phase mode keeps the strings' own decay
     // The strings sound at `scale` times the pitch they are tuned to on their springs (these solvers
     // leave out the residual compliance that the tuning counts): their own half-difference delta.
     const double scale = own.imag() / (2.0 * std::numbers::pi * hz);
@@ -626,7 +630,9 @@ TEST_CASE("Two strings on one bridge, mistuned: their normal modes lock in pitch
         const auto measured = normalModes(pair, own.imag() / (2.0 * std::numbers::pi), from, seconds);
         const std::complex<double> root = std::sqrt(c * c - delta * delta);
         std::array<std::complex<double>, 2> expected{own - c + root, own - c - root};
-        if (expected[0].real() < expected[1].real())
+        // Paired with the measured modes whichever way is nearer: their decays may be nearly alike.
+        if (std::abs(measured[0] - expected[1]) + std::abs(measured[1] - expected[0])
+            < std::abs(measured[0] - expected[0]) + std::abs(measured[1] - expected[1]))
             std::swap(expected[0], expected[1]);
         INFO("delta " << deltaOverC << " |c|: " << describe(measured[0]) << " and " << describe(measured[1])
                       << "; Weinreich's " << describe(expected[0]) << " and " << describe(expected[1]));
@@ -635,13 +641,12 @@ TEST_CASE("Two strings on one bridge, mistuned: their normal modes lock in pitch
         return measured;
     };
     // Measured (mass 0.1 kg): c = 2.546 - 0.075i /s; at delta = 0.6 |c| the modes within 0.5 % of |c|
-    // of the formula's, at 2 |c| within 2.5 %.
+    // of the formula's, at 2 |c| within 2.5 % (a 10 % error in delta moves them by 4.9 % and 23 % of |c|).
     // Within the coupling: one pitch (apart by 6 % of the strings' own 2 delta), the decays split.
-    const auto within = check(0.6, 0.05);
+    const auto within = check(0.6, 0.015);
     CHECK(std::abs(within[0].imag() - within[1].imag()) < 0.1 * 2.0 * 0.6 * std::abs(c));
-    CHECK(-within[1].real() > -within[0].real() + 1.2 * c.real());
-    // Beyond it: alike decays, the pitches split by less than the strings' own (0.88 of it).
+    // Beyond it: alike decays, the pitches split by less than the strings' own (0.88 of it; the
+    // formula's 0.87 for a resistive bridge).
     const auto beyond = check(2.0, 0.05);
     CHECK(std::abs(beyond[0].real() - beyond[1].real()) < 0.1 * c.real());
-    CHECK(std::abs(beyond[0].imag() - beyond[1].imag()) < 0.95 * 2.0 * 2.0 * std::abs(c));
 }
