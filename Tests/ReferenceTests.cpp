@@ -7,7 +7,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 using namespace jawari;
 
@@ -153,4 +155,34 @@ TEST_CASE("the reference with its rate extrapolated is 2 y(2R) - y(R), and cance
     CHECK(plainHalf / plain > 1.6);  // first order: halved with the step
     CHECK(plainHalf / plain < 2.6);
     CHECK(extrapolated < 0.3 * plain);  // what is left is of higher order (measured 9.9e-6 against 4.8e-5)
+}
+
+TEST_CASE("the extrapolated reference's two renders, side by side, report one rising progress to 1, and a cancel "
+          "stops the render")
+{
+    auto scene = test::scene("paper-tanpura.json");
+    scene.simulation.durationSeconds = 0.1;
+    scene.simulation.rateHz = 2e6;
+    scene.simulation.extrapolateRate = true;
+    RenderOptions options;
+    std::vector<double> reported;
+    options.progress = [&](double done) {
+        reported.push_back(done);
+        return true;
+    };
+    renderScene(scene, options);
+    REQUIRE(reported.size() > 3);
+    CHECK(std::is_sorted(reported.begin(), reported.end()));
+    CHECK(reported.back() == 1.0);
+
+    // Cancelled at the third report (the fine render's, on this thread): the render throws, the coarse
+    // one stopped with it.
+    reported.clear();
+    options.progress = [&](double done) {
+        reported.push_back(done);
+        return reported.size() < 3;
+    };
+    CHECK_THROWS_WITH(renderScene(scene, options), "render cancelled");
+    CHECK(reported.size() == 3);
+    CHECK(reported.back() < 0.5);
 }

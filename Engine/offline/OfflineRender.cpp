@@ -11,7 +11,9 @@
 #include "realtime/Denormals.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <future>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -347,24 +349,60 @@ RenderResult renderReference(const Scene& scene, const RenderOptions& options)
 }
 
 // The reference at its rate R and at 2R, combined as 2 y(2R) - y(R) (Simulation::extrapolateRate): an
-// error c / R in each cancels. The energy log, the rate and the modes are the finer render's; the
-// steps, Newton iterations and CPU time both renders', the largest iterations and penetration either's.
+// error c / R in each cancels. The two renders share nothing but the FFTW planner, which is locked:
+// the coarse one runs on a thread of its own beside the fine one, and either's failure stops the
+// other. The energy log, the rate and the modes are the finer render's; the steps, Newton iterations
+// and CPU time both renders', the largest iterations and penetration either's.
 RenderResult renderExtrapolated(const Scene& scene, const RenderOptions& options)
 {
     Scene coarse = scene;
     coarse.simulation.extrapolateRate = false;
     Scene fine = coarse;
     fine.simulation.rateHz = 2.0 * coarse.simulation.rateHz.value_or(kReferenceRateHz);
+    std::atomic<double> coarseDone{0.0};
+    std::atomic<bool> stop{false};
     RenderOptions first = options, second = options;
     first.logEnergy = false;
-    if (options.progress)
+    first.progress = [&](double done) {
+        coarseDone = done;
+        return !stop;
+    };
+    // The finer render takes twice the steps: the fraction done is a third of the one and two of the other.
+    second.progress = [&](double done) {
+        return !stop && (!options.progress || options.progress((coarseDone + 2.0 * done) / 3.0));
+    };
+    auto coarseRender = std::async(std::launch::async, [&] {
+        try
+        {
+            return renderReference(coarse, first);
+        }
+        catch (...)
+        {
+            stop = true;
+            throw;
+        }
+    });
+    RenderResult result;
+    try
     {
-        // The finer render takes twice the steps: a third of the time, then two.
-        first.progress = [&](double done) { return options.progress(done / 3.0); };
-        second.progress = [&](double done) { return options.progress((1.0 + 2.0 * done) / 3.0); };
+        result = renderReference(fine, second);
     }
-    const RenderResult low = renderReference(coarse, first);
-    RenderResult result = renderReference(fine, second);
+    catch (...)
+    {
+        if (stop.exchange(true))
+            coarseRender.get();  // the coarse render failed first and stopped this one: its error
+        else
+            try
+            {
+                coarseRender.get();  // stopped by this failure
+            }
+            catch (...)
+            {}
+        throw;
+    }
+    const RenderResult low = coarseRender.get();
+    if (options.progress)
+        options.progress(1.0);  // both done (the fine render's last report waited for neither)
     for (size_t i = 0; i < result.output.size(); ++i)
         result.output[i] = 2.0 * result.output[i] - low.output[i];
     auto& stats = result.stats;
