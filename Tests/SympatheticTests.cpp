@@ -397,42 +397,55 @@ TEST_CASE("On their jawari the sympathetic strings buzz: their share of the soun
 
 namespace
 {
-// Two identical taraf strings at 370 Hz on their bridges' springs on the tanpura body (16 modes each,
-// 192 kHz), the first plucked at 1 mm, for `seconds`: each string's first modal coordinate q_1 at
-// every step. With one string, the second's row is empty.
 struct UnisonRun
 {
     std::vector<double> first, second;
 };
 
-UnisonRun unisonOnBody(int strings, double coupling, double seconds, bool asSympathetic = false)
+// Taraf strings tuned to `hz` (one each) on their bridges' springs on `body`, coupled by `coupling`
+// (16 modes each, 192 kHz), the first plucked at 1 mm, for `seconds`: the first two strings' first
+// modal coordinates q_1 at every step (with one string, the second's row is empty). `asSympathetic`:
+// stepped as the shared body's sympathetic strings (split 0: their force fitted as affine).
+UnisonRun tarafOnBody(const std::vector<double>& hz, const ModalBody& body, double coupling, double seconds,
+                      bool asSympathetic = false)
 {
     const double rate = 192000.0;
-    const auto string = sympatheticStringAt(370.0);
-    auto config = stringSolverConfig(string, {sympatheticBridge(string.lengthMetres)}, kSympatheticModes, rate,
-                                     0.9 * string.lengthMetres, PickupQuantity::displacement);
-    config.pickupWeights.assign(config.pickupWeights.size(), 0.0);
-    config.pickupWeights[0] = 1.0;  // the pickup reads q_1
-    const std::vector<ModalSolverConfig> configs(size_t(strings), config);
-    std::vector<ModalSolver> solvers(configs.begin(), configs.end());
-    solvers[0].setInitialDisplacement(
-        pluckModalShape(string.lengthMetres, kSympatheticModes, 0.3 * string.lengthMetres, 1e-3));
-    SharedBody body(*factoryBody("tanpura"), coupling, solvers[0].timeStep());
+    std::deque<ModalSolver> solvers;  // built in place: a solver is not copied
+    for (const double f : hz)
+    {
+        const auto string = sympatheticStringAt(f);
+        auto config = stringSolverConfig(string, {sympatheticBridge(string.lengthMetres)}, kSympatheticModes, rate,
+                                         0.9 * string.lengthMetres, PickupQuantity::displacement);
+        config.pickupWeights.assign(config.pickupWeights.size(), 0.0);
+        config.pickupWeights[0] = 1.0;  // the pickup reads q_1
+        solvers.emplace_back(config);
+    }
+    const double L = sympatheticStringAt(hz.front()).lengthMetres;
+    solvers[0].setInitialDisplacement(pluckModalShape(L, kSympatheticModes, 0.3 * L, 1e-3));
+    SharedBody shared(body, coupling, solvers[0].timeStep());
     std::vector<ModalSolver*> pointers;
     for (auto& s : solvers)
     {
-        body.checkLinear(s);
+        shared.checkLinear(s);
         pointers.push_back(&s);
     }
+    const int count = int(hz.size());
     UnisonRun run;
     for (long n = 0; n < long(seconds * rate); ++n)
     {
-        body.step(pointers.data(), strings, asSympathetic ? 0 : strings);
+        shared.step(pointers.data(), count, asSympathetic ? 0 : count);
         run.first.push_back(solvers[0].pickup());
-        if (strings > 1)
+        if (count > 1)
             run.second.push_back(solvers[1].pickup());
     }
     return run;
+}
+
+// `strings` identical taraf strings at 370 Hz on the tanpura body.
+UnisonRun unisonOnBody(int strings, double coupling, double seconds, bool asSympathetic = false)
+{
+    return tarafOnBody(std::vector<double>(size_t(strings), 370.0), *factoryBody("tanpura"), coupling, seconds,
+                       asSympathetic);
 }
 
 // The decay rate (1/s) of x's envelope, the peak of |x| in each 10 ms, from a straight line fitted to
@@ -510,34 +523,6 @@ TEST_CASE("Two unison strings on one body: their anti-phase motion never feels i
 
 namespace
 {
-// Two taraf strings tuned to fA and fB (Hz) on their bridges' springs on `body`, at 192 kHz, the
-// first plucked at 1 mm, for `seconds`: each one's first modal coordinate q_1 at every step.
-UnisonRun pairOnBody(double fA, double fB, const ModalBody& body, double seconds)
-{
-    const double rate = 192000.0;
-    std::deque<ModalSolver> solvers;  // built in place: a solver is not copied
-    for (const double hz : {fA, fB})
-    {
-        const auto string = sympatheticStringAt(hz);
-        auto config = stringSolverConfig(string, {sympatheticBridge(string.lengthMetres)}, kSympatheticModes, rate,
-                                         0.9 * string.lengthMetres, PickupQuantity::displacement);
-        config.pickupWeights.assign(config.pickupWeights.size(), 0.0);
-        config.pickupWeights[0] = 1.0;  // the pickup reads q_1
-        solvers.emplace_back(config);
-    }
-    const double L = sympatheticStringAt(fA).lengthMetres;
-    solvers[0].setInitialDisplacement(pluckModalShape(L, kSympatheticModes, 0.3 * L, 1e-3));
-    SharedBody shared(body, 1.0, solvers[0].timeStep());
-    std::array<ModalSolver*, 2> pointers{&solvers[0], &solvers[1]};
-    UnisonRun run;
-    for (long n = 0; n < long(seconds * rate); ++n)
-    {
-        shared.step(pointers.data(), 2);
-        run.first.push_back(solvers[0].pickup());
-        run.second.push_back(solvers[1].pickup());
-    }
-    return run;
-}
 
 // The pair's two normal modes near `hz` from their first modal coordinates over [from, to) s at
 // 192 kHz, as lambda (1/s: -decay + i 2 pi f, the slower decay first). Each coordinate is brought
@@ -613,7 +598,7 @@ TEST_CASE("Two strings on one bridge, mistuned: their normal modes lock in pitch
     body.modes.push_back({hz, std::numbers::pi * hz / 5.0, 0.1});
     // At unison the anti-phase mode is the strings' own (the bridge never moves): iw_0 - sigma_0; the
     // in-phase mode is iw_0 - sigma_0 - 2c, which measures c.
-    const auto unisonRun = pairOnBody(hz, hz, body, seconds);
+    const auto unisonRun = tarafOnBody({hz, hz}, body, 1.0, seconds);
     const double near = normalModes(unisonRun, hz, from, seconds)[0].imag();  // demodulated again there
     const auto unison = normalModes(unisonRun, near / (2.0 * std::numbers::pi), from, seconds);
     const std::complex<double> own = unison[0], c = 0.5 * (unison[0] - unison[1]);
@@ -626,7 +611,7 @@ TEST_CASE("Two strings on one bridge, mistuned: their normal modes lock in pitch
     const double scale = own.imag() / (2.0 * std::numbers::pi * hz);
     auto check = [&](double deltaOverC, double withinFraction) {
         const double delta = deltaOverC * std::abs(c), apartHz = delta / (std::numbers::pi * scale);
-        const auto pair = pairOnBody(hz + 0.5 * apartHz, hz - 0.5 * apartHz, body, seconds);
+        const auto pair = tarafOnBody({hz + 0.5 * apartHz, hz - 0.5 * apartHz}, body, 1.0, seconds);
         const auto measured = normalModes(pair, own.imag() / (2.0 * std::numbers::pi), from, seconds);
         const std::complex<double> root = std::sqrt(c * c - delta * delta);
         std::array<std::complex<double>, 2> expected{own - c + root, own - c - root};

@@ -389,15 +389,16 @@ RenderResult renderExtrapolated(const Scene& scene, const RenderOptions& options
     }
     catch (...)
     {
-        if (stop.exchange(true))
-            coarseRender.get();  // the coarse render failed first and stopped this one: its error
-        else
-            try
-            {
-                coarseRender.get();  // stopped by this failure
-            }
-            catch (...)
-            {}
+        const bool coarseFailedFirst = stop.exchange(true);  // else this failure stops it
+        try
+        {
+            coarseRender.get();
+        }
+        catch (...)
+        {
+            if (coarseFailedFirst)
+                throw;  // its error stopped this render: the one to report
+        }
         throw;
     }
     const RenderResult low = coarseRender.get();
