@@ -90,7 +90,16 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
         s_[j] = sOnBridge(j, before);
         b_[j] = bOnBridge(j, move);
     }
-    if (springPoint_ >= 0 && springTrialPresser_ >= -1 && before == trialBefore_ && move == trialMove_)
+    if (loneSpring() && !(before == trialBefore_ && move == trialMove_))
+    {
+        // Its linear equation in closed form, as the solve below would pose and solve it (the same
+        // bits), without the contact system's general path.
+        const auto solved = solveScalarContact(contacts_[0].law, s_[0], b_[0], system_.coupling()(0, 0));
+        system_.recordScalar(0, solved);
+        r_[0] = solved.r;
+        slope_[0] = solved.slope;
+    }
+    else if (springPoint_ >= 0 && springTrialPresser_ >= -1 && before == trialBefore_ && move == trialMove_)
     {
         // The step's last trial was this string's solve: the spring and its other point. Kept once.
         system_.recordSpringTrial(springPoint_, springTrialPresser_, springTrial_, r_.data(), slope_.data());
@@ -131,6 +140,19 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
     int j = 0;  // a string's one point: its scalar equation is its solve, the trial exact
     if (slope != nullptr)
         *slope = 0.0;
+    if (loneSpring())
+    {
+        const double s = sOnBridge(0, before), b = bOnBridge(0, move);
+        trial_ = solveScalarContact(contacts_[0].law, s, b, system_.coupling()(0, 0));
+        trialBefore_ = before;
+        trialMove_ = move;
+        if (slope != nullptr)
+        {
+            const double k = system_.coupling()(0, 0), g = trial_.slopeDerivative;  // G is affine in r
+            *slope = -contacts_[0].weight * g / (1.0 + k * g);
+        }
+        return contacts_[0].weight * trial_.slope;
+    }
     if (P_ > 1 && springPoint_ >= 0)
         return trialWithSpring(before, move, slope);
     if (springsUntried_)

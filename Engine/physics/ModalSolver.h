@@ -276,6 +276,12 @@ private:
     int solveContacts();                  // slope_ from s_, b_ by the configured method
     // Point j's scalar contact equation alone (the spline's, or the energy-conserving one), nothing kept.
     ScalarContactSolution solvePointAlone(int j, double s, double b) const;
+    // A string held by one spring and nothing else (a sympathetic string on its bridge): its one
+    // equation is linear, solved in closed form by solveScalarContact whichever way it is reached.
+    bool loneSpring() const
+    {
+        return P_ == 1 && method_ == ContactMethod::energyConserving && contacts_[0].law.bilateral;
+    }
     // On a moving bridge: point j's s with the obstacle raised by `before` at n-1, and b with it
     // raised by `move` more at n+1 (solveOnMovingBridge).
     double sOnBridge(int j, double before) const;
