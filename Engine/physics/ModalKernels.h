@@ -6,6 +6,7 @@
 // (kBlock lanes) lets the loads and FMAs overlap; the summation order is fixed, so results are
 // reproducible for a given build.
 
+#include <algorithm>
 #include <cstddef>
 
 namespace jawari::kernels
@@ -177,6 +178,9 @@ inline void projectRows(const double* __restrict phi, int stride, const int* __r
 // Per two steps: six loads and three stores per mode, against twelve and four for two single
 // steps; the state stays in registers between the steps. phi may be null (no contact point); h2
 // (a second pickup) may be null. The pickups read the first Mh modes (a multiple of kBlock, or M).
+// partBlocks: the arrays are zero from M to the next multiple of kBlock (padding whose every term
+// is +0), M a multiple of 8, and the last modes are taken in blocks of 8 into the lanes they would
+// fill in a whole block, so that the sums are a whole block's; without it, one at a time (the tail).
 struct PairReadout
 {
     double pickup1 = 0.0, contact1 = 0.0, pickup2 = 0.0, contact2 = 0.0;
@@ -218,17 +222,20 @@ inline void pairStepTail(const double* __restrict a, const double* __restrict e,
 template <bool Second>
 inline void pairStepWith(const double* __restrict a, const double* __restrict e, double* __restrict X,
                          double* __restrict Y, double* __restrict settled, const double* __restrict h,
-                         const double* __restrict h2, const double* __restrict phi, double c1, double c2, int M,
-                         int Mh, PairReadout& out)
+                         const double* __restrict h2, const double* __restrict phi, double c1, double c2, int M, int Mh,
+                         bool partBlocks, PairReadout& out)
 {
     alignas(64) double ph1[kBlock] = {}, pc1[kBlock] = {}, ph2[kBlock] = {}, pc2[kBlock] = {};
     alignas(64) double sh1[kBlock] = {}, sh2[kBlock] = {};
     static constexpr double zeros[kBlock] = {};
-    // One block of kBlock modes from p, read by the pickups or not.
-    auto block = [&]<bool Pickups>(int p) {
+    // Modes p to p + W (W = kBlock, or 8 in a part block), read by the pickups or not, into the
+    // partial sums' lanes from p mod kBlock: a part block leaves the lanes of the padding beyond M,
+    // whose every term is +0, as they are, so the sums are those of the whole block.
+    auto block = [&]<int W, bool Pickups>(int p) {
         const double* __restrict ph = phi != nullptr ? phi + p : zeros;
+        const int o = p % kBlock;
 #pragma omp simd aligned(ph1, pc1, ph2, pc2, sh1, sh2 : 64)
-        for (int k = 0; k < kBlock; ++k)
+        for (int k = 0; k < W; ++k)
         {
             const double ak = a[p + k];
             const double before = X[p + k] + c1 * ph[k];
@@ -238,37 +245,40 @@ inline void pairStepWith(const double* __restrict a, const double* __restrict e,
             settled[p + k] = now;
             X[p + k] = t1;
             Y[p + k] = t2;
-            pc1[k] += ph[k] * t1;
-            pc2[k] += ph[k] * t2;
+            pc1[o + k] += ph[k] * t1;
+            pc2[o + k] += ph[k] * t2;
             if constexpr (Pickups)
             {
-                ph1[k] += h[p + k] * t1;
-                ph2[k] += h[p + k] * t2;
+                ph1[o + k] += h[p + k] * t1;
+                ph2[o + k] += h[p + k] * t2;
                 if constexpr (Second)
                 {
-                    sh1[k] += h2[p + k] * t1;
-                    sh2[k] += h2[p + k] * t2;
+                    sh1[o + k] += h2[p + k] * t1;
+                    sh2[o + k] += h2[p + k] * t2;
                 }
             }
         }
     };
     int p = 0;
-    for (; p + kBlock <= Mh; p += kBlock)
-        block.template operator()<true>(p);
+    for (; p + kBlock <= std::min(Mh, M); p += kBlock)
+        block.template operator()<kBlock, true>(p);
     for (; p + kBlock <= M; p += kBlock)
-        block.template operator()<false>(p);
+        block.template operator()<kBlock, false>(p);
+    for (; partBlocks && p + 8 <= M; p += 8)
+        p < Mh ? block.template operator()<8, true>(p) : block.template operator()<8, false>(p);
     out = {horizontalSum(ph1), horizontalSum(pc1), horizontalSum(ph2), horizontalSum(pc2),
            Second ? horizontalSum(sh1) : 0.0, Second ? horizontalSum(sh2) : 0.0};
     pairStepTail<Second>(a, e, X, Y, settled, h, h2, phi, c1, c2, p, M, out);
 }
 
 inline void pairStep(const double* a, const double* e, double* X, double* Y, double* settled, const double* h,
-                     const double* h2, const double* phi, double c1, double c2, int M, int Mh, PairReadout& out)
+                     const double* h2, const double* phi, double c1, double c2, int M, int Mh, bool partBlocks,
+                     PairReadout& out)
 {
     if (h2 != nullptr)
-        pairStepWith<true>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, Mh, out);
+        pairStepWith<true>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, Mh, partBlocks, out);
     else
-        pairStepWith<false>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, Mh, out);
+        pairStepWith<false>(a, e, X, Y, settled, h, h2, phi, c1, c2, M, Mh, partBlocks, out);
 }
 
 // x . y

@@ -471,9 +471,9 @@ void ModalSolver::predictPairStep()
 {
     if (state_.layout() == ModalState::Layout::pairBoundary)
     {
-        kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(),
-                          state_.h2(), state_.singlePhi(), state_.c1(), state_.c2(), state_.paddedCount(),
-                          state_.pickupCount(), pass_);
+        kernels::pairStep(state_.a(), state_.e(), state_.qPrev(), state_.q(), state_.settled(), state_.h(), state_.h2(),
+                          state_.singlePhi(), state_.c1(), state_.c2(), state_.steppedCount(), state_.pickupCount(),
+                          state_.padded(), pass_);
         pickups_[0].predicted = pass_.pickup1;
         pairU_ = pass_.contact1;
         pickups_[1].predicted = pass_.second1;

@@ -17,7 +17,9 @@
 // mode(i) decodes any layout; toSingle() rewrites the arrays in the single layout.
 
 #include "physics/ExactOscillator.h"
+#include "physics/ModalKernels.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -111,6 +113,11 @@ public:
     int modeCount() const { return M_; }
     int activeCount() const { return Ma_; }
     int paddedCount() const { return Mpad_; }
+    // Whether the modes are padded to whole kernel blocks with zeros (not the DST path's exact size).
+    bool padded() const { return Mpad_ % kernels::kBlock == 0; }
+    // Padded: the active modes rounded up to a vector of 8, at most paddedCount(), the modes a pass
+    // must cover (the padding beyond is zero and stays so; kernels::pairStep's part blocks).
+    int steppedCount() const { return padded() ? std::min(Mpad_, (Ma_ + 7) / 8 * 8) : Mpad_; }
     int stride() const { return stride_; }
     // The leading active modes the pickups read: up to the last with a nonzero weight (the modes
     // above the pickup band have none: ModalSolverConfig::pickupBandHz), rounded up to a kernel

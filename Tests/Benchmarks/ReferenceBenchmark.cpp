@@ -99,7 +99,7 @@ void kernelCheck()
     for (int n = 0; n < passes; ++n)
     {
         kernels::pairStep(a.data(), e.data(), X.data(), Y.data(), S.data(), h.data(), nullptr, phi.data(), 1e-12, 0.0,
-                          M, M, readout);
+                          M, M, false, readout);
         sink += readout.pickup1 + readout.contact2;
     }
     const double vectorised = (threadCpuSeconds() - t0) / (2.0 * passes * M) * 1e9;
