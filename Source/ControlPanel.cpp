@@ -76,6 +76,9 @@ const ControlSpec kControls[] = {
      "MPE (the lower zone): a note on its own channel 2..16 bends, presses (its bridge up to 0.5 mm further "
      "in: more buzz) and slides (its damping) by itself; channel 1 moves every note."},
     {"MIDI", ids::mpeBendRange, "MPE bend", "How far a note's own pitch bend goes under MPE, each way."},
+    {"MIDI", ids::voices, "Voices",
+     "How many notes sound at once; a note beyond them takes the quietest or oldest. Fewer cost less, most "
+     "through a body."},
     {"Quality", ids::quality, "Quality",
      "How much of the model runs: standard (eight strings and the drone in real time on one core), draft "
      "for weak machines, high or paper (the most modes and the highest internal rate)."},

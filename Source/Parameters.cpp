@@ -3,6 +3,7 @@
 #include "ParameterText.h"
 #include "physics/ContactMethod.h"
 #include "realtime/Quality.h"
+#include "realtime/VoicePack.h"
 
 #include <algorithm>
 #include <cmath>
@@ -299,6 +300,9 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout()
                       inUnit("kg/s", 2)));
     addBody(layout);
     addSympathetic(layout);
+    // How many MIDI strings sound at once (InstrumentControls::midiVoices): fewer costs less.
+    layout.add(std::make_unique<juce::AudioParameterInt>(juce::ParameterID{ids::voices, 1}, "Voices", 1, kMidiVoices,
+                                                         kControlDefaults.midiVoices));
     return layout;
 }
 
@@ -358,6 +362,7 @@ InstrumentControls ParameterReader::controls(const std::array<std::atomic<float>
     c.gainDb = get(ids::gain);
     c.bodyMix = get(ids::bodyMix);
     c.bendRangeSemitones = get(ids::bendRange);
+    c.midiVoices = rounded(get(ids::voices));
     c.drone = get(ids::drone) > 0.5f;
     c.droneTonic = rounded(get(ids::droneTonic));
     c.droneFirst = rounded(get(ids::droneFirst));

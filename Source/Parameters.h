@@ -72,6 +72,7 @@ inline constexpr const char* sympatheticIntonation = "sympatheticIntonation";
 inline constexpr const char* sympatheticDamping = "sympatheticDamping";
 inline constexpr const char* sympatheticLevel = "sympatheticLevel";
 inline constexpr const char* sympatheticJawari = "sympatheticJawari";
+inline constexpr const char* voices = "voices";
 }  // namespace ids
 
 // Every parameter, in the order the host lists them (createParameterLayout adds them in this order).
@@ -128,7 +129,8 @@ inline constexpr const char* kParameterIds[] = {ids::stringType,
                                                 ids::sympatheticIntonation,
                                                 ids::sympatheticDamping,
                                                 ids::sympatheticLevel,
-                                                ids::sympatheticJawari};
+                                                ids::sympatheticJawari,
+                                                ids::voices};
 inline constexpr std::size_t kParameterCount = std::size(kParameterIds);
 
 // Ids that saved states and user presets may still use for a parameter: read into `id`.

@@ -119,6 +119,45 @@ TEST_CASE("Eight strings sound at once and a ninth note steals without a click",
     CHECK(stolen);
 }
 
+TEST_CASE("The voice limit: notes beyond it steal, and a lowered limit fades the strings above it without a click",
+          "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    auto controls = freeControls();
+    controls.midiVoices = 3;
+    instrument.setControls(controls);
+    instrument.install(pack.get(), nullptr);
+    for (int i = 0; i < 5; ++i)
+        instrument.noteOn(48 + 3 * i, 0.9);
+    const auto three = play(instrument, 0.5);
+    CHECK(instrument.activeStrings() == 3);
+    // The two oldest notes were stolen: the three newest sound, in the first three strings.
+    for (int s = 0; s < 3; ++s)
+        CHECK(instrument.slotNote(s) >= 54);
+    // Raised to eight, five notes sound together; lowered to two, the three above fade out.
+    controls.midiVoices = 8;
+    instrument.setControls(controls);
+    for (int i = 0; i < 5; ++i)
+        instrument.noteOn(61 + 2 * i, 0.9);
+    const auto eight = play(instrument, 0.5);
+    CHECK(instrument.activeStrings() == 8);
+    const double normal = largestStep(eight, 2400, eight.size());
+    controls.midiVoices = 2;
+    instrument.setControls(controls);
+    const auto lowered = play(instrument, 0.1);
+    const double fade = largestStep(lowered, 0, lowered.size());
+    INFO("largest sample step: playing " << normal << ", as the limit falls " << fade);
+    CHECK(fade < 1.5 * normal);
+    CHECK(instrument.activeStrings() == 2);
+    // Nothing above the limit takes a note, and the two below it still play theirs.
+    instrument.noteOn(90, 0.9);
+    play(instrument, 0.1);
+    CHECK(instrument.activeStrings() == 2);
+    for (int s = 2; s < kMidiVoices; ++s)
+        CHECK(!instrument.slotSounding(s));
+}
+
 TEST_CASE("The sustain pedal holds released notes until it is lifted", "[instrument]")
 {
     auto pack = buildVoicePack(freeStructure());

@@ -419,7 +419,8 @@ TEST_CASE("The parameters: their order, the engine's choice names and unchanged 
                                                       {ids::sympatheticIntonation, 0.0f},
                                                       {ids::sympatheticDamping, 1.0f},
                                                       {ids::sympatheticLevel, 1.0f},
-                                                      {ids::sympatheticJawari, 0.0f}};
+                                                      {ids::sympatheticJawari, 0.0f},
+                                                      {ids::voices, 8.0f}};
     CHECK(std::size(defaults) == kParameterCount);
     for (const auto& [id, value] : defaults)
     {
@@ -539,7 +540,8 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
                                                     {ids::sympatheticIntonation, 1.0f},
                                                     {ids::sympatheticDamping, 4.0f},
                                                     {ids::sympatheticLevel, 0.3f},
-                                                    {ids::sympatheticJawari, 1.0f}};
+                                                    {ids::sympatheticJawari, 1.0f},
+                                                    {ids::voices, 3.0f}};
     REQUIRE(std::size(values) == kParameterCount);
     for (const auto& [id, value] : values)
         setParameter(p, id, value);
@@ -586,6 +588,7 @@ TEST_CASE("ParameterReader reads each parameter into its own engine field", "[pl
     CHECK(c.dampingCurve[0] == 2.0);
     CHECK(c.gainDb == Approx(-6.0).epsilon(1e-4));
     CHECK(c.bendRangeSemitones == Approx(7.0));
+    CHECK(c.midiVoices == 3);
     CHECK(c.drone);
     CHECK(c.droneTonic == 60);
     CHECK(c.droneFirst == 2);

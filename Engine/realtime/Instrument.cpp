@@ -72,6 +72,7 @@ void Instrument::renderChunk(float* left, float* right, int count)
     followControls(1.0 - std::exp(-count / (0.020 * rate)));
     followExpression(count, rate);
     drone_.advance(count, controls_.current(), rate, strings_, activity_);
+    notes_.fitVoiceLimit();
     Sounding sounding = soundingStrings();
     stepStrings(sounding, count);
     mixStrings(sounding, count, start);

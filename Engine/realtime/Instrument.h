@@ -122,6 +122,7 @@ public:
     double slotPitch(int slot) const { return strings_[slot].pitch; }
     int slotChannel(int slot) const { return strings_[slot].channel; }
     int slotNote(int slot) const { return strings_[slot].note; }
+    bool slotSounding(int slot) const { return strings_[slot].sounding; }
 
     static constexpr int kChunk = kChunkSamples;
 

@@ -125,6 +125,9 @@ struct InstrumentControls
     // width of the second (kSecondPickupOffset). 0 is mono (the drone keeps its pans).
     double stereoWidth = 0.6;
     double bendRangeSemitones = 2.0;
+    // How many of the eight MIDI strings may sound at once (1..8): a note beyond them steals one,
+    // and the strings above a lowered limit fade out as a stolen string does (MidiNotes).
+    int midiVoices = 8;
     double tuningA4Hz = 440.0;
     // The pitch each MIDI key plays (equal temperament, or a Scala scale: Tuning.h); NaN: unmapped.
     KeyboardPitches keyPitches = equalTemperament();

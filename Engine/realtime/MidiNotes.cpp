@@ -42,7 +42,7 @@ void MidiNotes::noteOn(int note, double velocity, int channel)
             return;
         }
     }
-    for (int i = 0; i < kMidiVoices; ++i)
+    for (int i = 0; i < voiceLimit(); ++i)
         if (!strings_[i].sounding)
         {
             startKey(i, note, velocity, channel);
@@ -51,17 +51,35 @@ void MidiNotes::noteOn(int note, double velocity, int channel)
     steal(note, velocity, channel);
 }
 
+int MidiNotes::voiceLimit() const
+{
+    return std::clamp(controls_.target().midiVoices, 1, kMidiVoices);
+}
+
+void MidiNotes::fitVoiceLimit()
+{
+    for (int i = voiceLimit(); i < kMidiVoices; ++i)
+    {
+        auto& s = strings_[i];
+        if (s.sounding && s.fade < 0)
+            s.fade = strings_.fadeLength();
+        s.pendingNote = -1;  // a note stolen for it goes unplayed, as one beyond eight would
+        s.held = s.sustained = false;
+    }
+}
+
 void MidiNotes::steal(int note, double velocity, int channel)
 {
     std::array<StringActivity, kMidiVoices> activity;
-    for (int i = 0; i < kMidiVoices; ++i)
+    const int limit = voiceLimit();
+    for (int i = 0; i < limit; ++i)
     {
         const auto& s = strings_[i];
         activity[size_t(i)] = {s.fade >= 0, s.held, s.sustained, s.age, 0.0};
         if (s.fade < 0 && !s.held && !s.sustained)
             activity[size_t(i)].energy = strings_.voice(i).stringEnergy();
     }
-    int victim = chooseStolenString(activity.data(), kMidiVoices);
+    int victim = chooseStolenString(activity.data(), limit);
     if (victim < 0)
         victim = 0;  // every string is already fading: take over the first one's pending note
     auto& s = strings_[victim];
@@ -139,6 +157,11 @@ void MidiNotes::startPendingNote(int slot)
     auto& s = strings_[slot];
     strings_.voice(slot).silence();
     s.sounding = false;
+    if (s.pendingNote < 0)
+    {
+        s.fade = -1;  // above the voice limit: it stays silent
+        return;
+    }
     startKey(slot, s.pendingNote, s.pendingVelocity, s.pendingChannel);
     s.pendingNote = -1;
     if (!s.pendingHeld)

@@ -2,7 +2,8 @@
 // The eight MIDI strings (the first slots): keys on and off, the sustain pedal, and voice
 // stealing: with every string busy a new note takes the quietest released string, else the oldest
 // held one, which fades out first (StringSlot::fade) and then starts the pending note from rest.
-// RT throughout: no allocation.
+// Only the first InstrumentControls::midiVoices strings take notes; those above the limit fade out
+// as a stolen string does, with no note to follow. RT throughout: no allocation.
 
 #include "realtime/InstrumentSettings.h"
 #include "realtime/StringSlots.h"
@@ -27,11 +28,14 @@ public:
     void allNotesOff();  // every MIDI string released, the pedal up
     // After a chunk's mix: each stolen string that has faded out starts its pending note.
     void startStolenNotes();
+    // Before a chunk: the strings above the voice limit set to fade out, their notes forgotten.
+    void fitVoiceLimit();
 
 private:
     void startKey(int slot, int note, double velocity, int channel);
     void steal(int note, double velocity, int channel);
     void startPendingNote(int slot);
+    int voiceLimit() const;
 
     StringSlots& strings_;
     const SmoothedControls& controls_;

@@ -125,6 +125,10 @@ int main(int argc, char* argv[])
         param->setValueNotifyingHost(param->convertTo0to1(v));
     };
     set(jawari::plugin::ids::quality, float(quality));
+    // Every held note sounds: the preset's voice limit raised to the polyphony asked for.
+    auto* voices = p.parameters().getParameter(jawari::plugin::ids::voices);
+    const int presetVoices = int(std::lround(voices->convertFrom0to1(voices->getValue())));
+    set(jawari::plugin::ids::voices, float(std::max(presetVoices, polyphony)));
     set(jawari::plugin::ids::drone, float(drone));
     set(jawari::plugin::ids::secondCore, float(secondCore));
     set(jawari::plugin::ids::polarisations, float(polarisations - 1));
