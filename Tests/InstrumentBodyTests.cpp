@@ -271,3 +271,31 @@ TEST_CASE("Through the body the Sitar's strings leave out the bridge points they
     CHECK(onBody > 0.0);
     CHECK(onBody < 0.8);  // measured 0.732
 }
+
+TEST_CASE("Through the body a lowered voice limit takes the strings above it away without a click",
+          "[instrument][body]")
+{
+    // The body's radiated sound alone (mix 1): a silenced string's force leaves the bridge at once,
+    // but the body's modes carry on from where they were, so the sound moves no faster than playing.
+    auto pack = buildVoicePack(tanpuraStructure(BodyChoice::tanpura, PluckStyle::soft));
+    Instrument instrument;
+    auto controls = mixAndWidth(1.0, 0.0);
+    test::start(instrument, *pack, controls);
+    for (int i = 0; i < 4; ++i)
+        instrument.noteOn(48 + 4 * i, 0.8);
+    const auto playing = test::playLeft(instrument, 0.6);
+    CHECK(instrument.activeStrings() == 4);
+    double normal = 0.0;
+    for (size_t n = 9600; n < playing.size(); ++n)  // from 0.2 s: past the plucks
+        normal = std::max(normal, std::abs(playing[n] - playing[n - 1]));
+    controls.midiVoices = 1;
+    instrument.setControls(controls);
+    const auto lowered = test::playLeft(instrument, 0.1);
+    double fade = std::abs(lowered[0] - playing.back());
+    for (size_t n = 1; n < lowered.size(); ++n)
+        fade = std::max(fade, std::abs(lowered[n] - lowered[n - 1]));
+    INFO("largest sample step: playing " << normal << ", as the limit falls " << fade);
+    CHECK(instrument.activeStrings() == 1);
+    CHECK(fade < 1.5 * normal);
+    CHECK(rms(lowered) > 0.0);
+}
