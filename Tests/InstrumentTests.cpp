@@ -158,6 +158,29 @@ TEST_CASE("The voice limit: notes beyond it steal, and a lowered limit fades the
         CHECK(!instrument.slotSounding(s));
 }
 
+TEST_CASE("A note waiting for a string above a lowered voice limit plays within it", "[instrument]")
+{
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    auto controls = freeControls();
+    instrument.setControls(controls);
+    instrument.install(pack.get(), nullptr);
+    for (int i = 0; i < 8; ++i)
+        instrument.noteOn(48 + 3 * i, 0.9);
+    play(instrument, 0.2);
+    instrument.noteOff(48 + 3 * 5, 0);  // the one released string: the next note steals it
+    play(instrument, 0.05);
+    instrument.noteOn(95, 0.9);
+    controls.midiVoices = 2;
+    instrument.setControls(controls);
+    play(instrument, 0.1);
+    bool within = false;
+    for (int s = 0; s < 2; ++s)
+        within = within || (instrument.slotNote(s) == 95 && instrument.slotSounding(s));
+    CHECK(within);
+    CHECK(instrument.activeStrings() == 2);
+}
+
 TEST_CASE("The sustain pedal holds released notes until it is lifted", "[instrument]")
 {
     auto pack = buildVoicePack(freeStructure());

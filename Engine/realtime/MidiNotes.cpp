@@ -3,6 +3,7 @@
 #include "realtime/VoiceStealing.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -58,13 +59,31 @@ int MidiNotes::voiceLimit() const
 
 void MidiNotes::fitVoiceLimit()
 {
+    struct Moved
+    {
+        int note, channel;
+        double velocity;
+        bool held;
+    };
+    std::array<Moved, kMidiVoices> moved;
+    int count = 0;
     for (int i = voiceLimit(); i < kMidiVoices; ++i)
     {
         auto& s = strings_[i];
         if (s.sounding && s.fade < 0)
             s.fade = strings_.fadeLength();
-        s.pendingNote = -1;  // a note stolen for it goes unplayed, as one beyond eight would
         s.held = s.sustained = false;
+        if (s.pendingNote >= 0)
+            moved[size_t(count++)] = {s.pendingNote, s.pendingChannel, s.pendingVelocity, s.pendingHeld};
+        s.pendingNote = -1;
+    }
+    // A note that was to follow a steal above the limit plays within it instead, once every string
+    // above it is fading (released at once if its key was let go meanwhile, as it would have been).
+    for (int k = 0; k < count; ++k)
+    {
+        noteOn(moved[size_t(k)].note, moved[size_t(k)].velocity, moved[size_t(k)].channel);
+        if (!moved[size_t(k)].held)
+            noteOff(moved[size_t(k)].note, moved[size_t(k)].channel);
     }
 }
 
