@@ -76,9 +76,6 @@ const ControlSpec kControls[] = {
      "MPE (the lower zone): a note on its own channel 2..16 bends, presses (its bridge up to 0.5 mm further "
      "in: more buzz) and slides (its damping) by itself; channel 1 moves every note."},
     {"MIDI", ids::mpeBendRange, "MPE bend", "How far a note's own pitch bend goes under MPE, each way."},
-    {"MIDI", ids::voices, "Voices",
-     "How many notes sound at once; a note beyond them takes the quietest or oldest. Fewer cost less, most "
-     "through a body."},
     {"Quality", ids::quality, "Quality",
      "How much of the model runs: standard (eight strings and the drone in real time on one core), draft "
      "for weak machines, high or paper (the most modes and the highest internal rate)."},
@@ -105,6 +102,9 @@ const ControlSpec kControls[] = {
      "Steps half the sounding strings on a second core, beside the host's audio thread: for high quality or many "
      "strings where one core is not enough. The sound is the same to the last bit; off, everything runs on the "
      "audio thread."},
+    {"Quality", ids::voices, "Voices",
+     "How many notes sound at once; a note beyond them takes the quietest or oldest. Fewer cost less, most "
+     "through a body."},
     {"String", ids::pluckStyle, "Pluck",
      "Sharp: a 1.5 ms flick at the pluck point. Soft: a finger's push, rising over 50 ms and letting go "
      "abruptly; through a body the sound then grows for half a second as the bridge wakes the high partials."},
