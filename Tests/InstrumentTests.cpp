@@ -126,8 +126,7 @@ TEST_CASE("The voice limit: notes beyond it steal, and a lowered limit fades the
     Instrument instrument;
     auto controls = freeControls();
     controls.midiVoices = 3;
-    instrument.setControls(controls);
-    instrument.install(pack.get(), nullptr);
+    test::start(instrument, *pack, controls);
     for (int i = 0; i < 5; ++i)
         instrument.noteOn(48 + 3 * i, 0.9);
     const auto three = play(instrument, 0.5);
@@ -163,8 +162,7 @@ TEST_CASE("A note waiting for a string above a lowered voice limit plays within 
     auto pack = buildVoicePack(freeStructure());
     Instrument instrument;
     auto controls = freeControls();
-    instrument.setControls(controls);
-    instrument.install(pack.get(), nullptr);
+    test::start(instrument, *pack, controls);
     for (int i = 0; i < 8; ++i)
         instrument.noteOn(48 + 3 * i, 0.9);
     play(instrument, 0.2);
