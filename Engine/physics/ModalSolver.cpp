@@ -140,19 +140,6 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
     int j = 0;  // a string's one point: its scalar equation is its solve, the trial exact
     if (slope != nullptr)
         *slope = 0.0;
-    if (loneSpring())
-    {
-        const double s = sOnBridge(0, before), b = bOnBridge(0, move);
-        trial_ = solveScalarContact(contacts_[0].law, s, b, system_.coupling()(0, 0));
-        trialBefore_ = before;
-        trialMove_ = move;
-        if (slope != nullptr)
-        {
-            const double k = system_.coupling()(0, 0), g = trial_.slopeDerivative;  // G is affine in r
-            *slope = -contacts_[0].weight * g / (1.0 + k * g);
-        }
-        return contacts_[0].weight * trial_.slope;
-    }
     if (P_ > 1 && springPoint_ >= 0)
         return trialWithSpring(before, move, slope);
     if (springsUntried_)
@@ -166,7 +153,9 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
             return std::numeric_limits<double>::quiet_NaN();
     }
     const double s = sOnBridge(j, before), b = bOnBridge(j, move);
-    const auto solution = solvePointAlone(j, s, b);
+    // A lone spring's linear equation in closed form, without the contact system's trial bookkeeping.
+    const auto solution =
+        loneSpring() ? solveScalarContact(contacts_[0].law, s, b, system_.coupling()(0, 0)) : solvePointAlone(j, s, b);
     if (slope != nullptr)
     {
         // r + k G(r) = b with db/dmove = -1: dr/dmove = -1 / (1 + k G'), and F = w G.

@@ -43,7 +43,8 @@ void MidiNotes::noteOn(int note, double velocity, int channel)
             return;
         }
     }
-    for (int i = 0; i < voiceLimit(); ++i)
+    const int limit = voiceLimit();
+    for (int i = 0; i < limit; ++i)
         if (!strings_[i].sounding)
         {
             startKey(i, note, velocity, channel);

@@ -28,7 +28,8 @@ public:
     void allNotesOff();  // every MIDI string released, the pedal up
     // After a chunk's mix: each stolen string that has faded out starts its pending note.
     void startStolenNotes();
-    // Before a chunk: the strings above the voice limit set to fade out, their notes forgotten.
+    // Before a chunk: the strings above the voice limit set to fade out, released; a note waiting to
+    // follow a steal in one of them is played within the limit instead.
     void fitVoiceLimit();
 
 private:
