@@ -160,6 +160,42 @@ TEST_CASE("The sympathetic strings' level scales their share of the body's sound
     CHECK(std::sqrt(share / total) > 0.01);
 }
 
+TEST_CASE("At level 1 the sympathetic strings' share is not stepped apart; moved below 1 it starts from rest and "
+          "soon gives the share of a level held from the start",
+          "[sympathetic][instrument]")
+{
+    const auto keys = equalTemperament();
+    const double switchAt = 0.4, seconds = 1.0, rate = 48000.0;
+    const auto held = play(61, keys, seconds, 0.5).left;
+    auto pack = buildVoicePack(test::sitarStructure(kMaxSympatheticStrings));
+    Instrument instrument;
+    InstrumentControls controls = tarafControls(SympatheticScale::kafi);
+    controls.stiffness = 1e12;
+    controls.exponent = 1.5;
+    controls.keyPitches = keys;
+    start(instrument, *pack, controls);
+    instrument.noteOn(61, 0.8);
+    auto moved = test::playLeft(instrument, switchAt);
+    const double restingShare = std::abs(pack->body->partPressure(0)) + std::abs(pack->body->partPressure(1));
+    controls.sympatheticLevel = 0.5;
+    instrument.setControls(controls);
+    const auto after = test::playLeft(instrument, seconds - switchAt);
+    moved.insert(moved.end(), after.begin(), after.end());
+    REQUIRE(moved.size() == held.size());
+    // Over the last 0.2 s: the switched render against the held one, beside the sound itself.
+    double difference = 0.0, sound = 0.0;
+    for (size_t n = size_t((seconds - 0.2) * rate); n < held.size(); ++n)
+    {
+        difference += (moved[n] - held[n]) * (moved[n] - held[n]);
+        sound += held[n] * held[n];
+    }
+    const double relative = std::sqrt(difference / sound);
+    INFO("the share's pressure at level 1: " << restingShare << " Pa; switched to 0.5 at " << switchAt
+                                             << " s, over the last 0.2 s relL2 " << relative << " from 0.5 held");
+    CHECK(restingShare == 0.0);
+    CHECK(std::abs(pack->body->partPressure(0)) > 0.0);
+    CHECK(relative < 1e-2);  // its whole share is 0.43 of the sound (above): this is what the rested copy missed
+}
 
 TEST_CASE("A scene's sympathetic strings: tuned on their bridges' springs, bad input named", "[sympathetic][scene]")
 {

@@ -341,6 +341,18 @@ double SharedBody::solveNode(ModalSolver& string, double before, double arriving
     return force;
 }
 
+void SharedBody::keepPart(bool keep)
+{
+    if (keep == partKept_)
+        return;
+    partKept_ = keep;
+    if (keep)
+        return;
+    std::fill(zPart_.begin(), zPart_.end(), 0.0);
+    std::fill(zPartPrevious_.begin(), zPartPrevious_.end(), 0.0);
+    partPressure_.fill(0.0);
+}
+
 // The copy of the modes that the strings after split drive: the same update, their force alone.
 void SharedBody::stepPart(double partForce)
 {
@@ -465,7 +477,7 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     }
     for (int i = 0; i < count; ++i)
         strings[i]->finishOnMovingBridge();
-    if (split < count)
+    if (split < count && partKept_)
         stepPart(partForce_);
     finishBody(predicted, read);
 }

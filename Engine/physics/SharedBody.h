@@ -92,6 +92,11 @@ public:
     double pressure(int channel) const { return pressure_[size_t(channel)]; }
     // RT: the same from the forces of the strings after split.
     double partPressure(int channel) const { return partPressure_[size_t(channel)]; }
+    // RT: whether step() keeps partPressure() (by default it does). Not kept, the copy of the modes
+    // rests and partPressure() is 0: a caller that does not hear the share spares the copy's pass.
+    // Kept again, the copy starts from rest, so until the body's modes have rung out the share misses
+    // what the strings after split put in while it rested.
+    void keepPart(bool keep);
     int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
     int lastTrials() const { return trials_; }            // RT: its trials (ModalSolver::trialOnMovingBridge)
     bool atRest() const;                               // RT: every mode below 1e-18 m
@@ -133,6 +138,7 @@ private:
     std::array<double, BodyReach::kMostStrings> forces_{};  // each string's force at the last solve (N)
     bool resolved_ = false;
     std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
+    bool partKept_ = true;
     double dt_ = 0.0, beta_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0;             // w^n, w^{n-1}
     std::array<double, 2> pressure_{}, partPressure_{};     // per channel (Pa)

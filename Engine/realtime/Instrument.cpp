@@ -73,6 +73,7 @@ void Instrument::renderChunk(float* left, float* right, int count)
     followExpression(count, rate);
     drone_.advance(count, controls_.current(), rate, strings_, activity_);
     notes_.fitVoiceLimit();
+    tarafShareHeard_ = start.sympatheticLevel != 1.0 || controls_.current().sympatheticLevel != 1.0;
     Sounding sounding = soundingStrings();
     stepStrings(sounding, count);
     mixStrings(sounding, count, start);

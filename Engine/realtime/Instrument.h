@@ -180,6 +180,10 @@ private:
     // the controls' 20 ms one-pole, since the centre and a side listener are different sounds and a
     // switch from one to the other would splice them. NaN: take the width at once.
     double bodyWidth_ = std::numeric_limits<double>::quiet_NaN();
+    // Whether this chunk's mix hears the sympathetic strings' share apart (their level below 1 at
+    // either end of its ramp); at 1 throughout the body's own pressure carries them and the share's
+    // copy of the modes rests (SharedBody::keepPart).
+    bool tarafShareHeard_ = true;
     int chunksSinceSnapshot_ = 0;
     double chunkPenetration_ = 0.0;
     long limitedSamples_ = 0;

@@ -36,6 +36,7 @@ void Instrument::stepOnBody(Sounding& s, int samples)
 {
     auto& body = *pack_->body;
     body.listenBetween(bodyWidth_);
+    body.keepPart(tarafShareHeard_);
     const long steps = long(samples) * pack_->oversampling;
     if (s.count == 0 && body.atRest() && sympathetic_.atRest())
     {
