@@ -236,6 +236,53 @@ void ModalSolver::finishOnMovingBridge()
     endSingleStep();
 }
 
+bool ModalSolver::isLoneSpring(int most) const
+{
+    return loneSpring() && state_.pairable() && externalForce_ == 0.0 && transform_ == nullptr
+           && state_.activeCount() <= most;
+}
+
+ModalSolver::LoneSpring ModalSolver::takeLoneSpring()
+{
+    state_.toSingle();
+    const ContactLaw& law = contacts_[0].law;
+    LoneSpring out;
+    out.modes = state_.activeCount();
+    out.a = state_.a();
+    out.e = state_.e();
+    out.phi = state_.phi(0);
+    out.q = state_.q();
+    out.qPrev = state_.qPrev();
+    out.height = contacts_[0].height;
+    out.stiffness = law.stiffness;
+    out.chordSlope = 0.5 * law.stiffness + law.stepDamping;
+    out.weight = contacts_[0].weight;
+    out.coupling = system_.coupling()(0, 0);
+    out.stringCoupling = stringCoupling_(0, 0);
+    out.forceScale = forceScale_;
+    out.uC = uC_[0];
+    out.uCPrev = uCPrev_[0];
+    out.slope = slope_[0];
+    out.kappa = compliance_.kappa();
+    out.pushPerSlope = compliance_.pushPerSlope(0);
+    out.forcePerSlope = compliance_.forcePerSlope(0);
+    out.spring = compliance_.pointState(0);
+    return out;
+}
+
+void ModalSolver::giveLoneSpring(const double* q, const double* qPrev, const LoneSpring& state)
+{
+    state_.restartSingle();
+    for (int i = 0; i < state.modes; ++i)
+        state_.set(i, q[i], qPrev[i]);
+    uC_[0] = state.uC;
+    uCPrev_[0] = state.uCPrev;
+    slope_[0] = state.slope;
+    compliance_.setPointState(0, state.spring);
+    lastPenetration_ = -std::numeric_limits<double>::infinity();
+    trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();
+}
+
 void ModalSolver::setExternalForce(double newtons)
 {
     if (newtons == 0.0 && externalForce_ != 0.0)

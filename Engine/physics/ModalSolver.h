@@ -140,6 +140,36 @@ public:
     // points and springs that no trial poses (two springs, or a spring solved point by point).
     // `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
     double trialOnMovingBridge(double before, double move, double* slope = nullptr) const;
+    // A string held by one spring and nothing else (a sympathetic string on its bridge), handed to a
+    // caller that steps it elsewhere (LinearStringBank) and back. Its step, single form, is
+    //   q~ = a q^n - e q^{n-1},  u~ = phi . q~,
+    //   s = h + before - u_C^{n-1} - delta^{n-1},  b = u~ - u_C^{n-1} - kappa delta^{n-1} - move,
+    //   G = -K s + d r with r = (b + k K s) / (1 + k d)   (d = K/2 + R/(2 dt): the spring's chord slope),
+    //   u_C^{n+1} = u~ - kString G,  q^{n+1} = q~ - (dt^2/mu) w G phi,  and the residual compliance's
+    // advance (ResidualCompliance::PointState), its force on the bridge w G.
+    struct LoneSpring
+    {
+        int modes = 0;  // active modes: a, e, phi, q and qPrev hold this many
+        const double* a = nullptr;
+        const double* e = nullptr;
+        const double* phi = nullptr;
+        const double* q = nullptr;      // q^n
+        const double* qPrev = nullptr;  // q^{n-1}
+        double height = 0.0, stiffness = 0.0, chordSlope = 0.0, weight = 0.0;
+        double coupling = 0.0, stringCoupling = 0.0, forceScale = 0.0;
+        double uC = 0.0, uCPrev = 0.0, slope = 0.0;
+        double kappa = 1.0, pushPerSlope = 0.0, forcePerSlope = 0.0;
+        ResidualCompliance::PointState spring;
+    };
+    // Whether the string is one (loneSpring) that takes two steps per pass, with no force on it and
+    // at most `most` active modes.
+    bool isLoneSpring(int most) const;
+    // RT: its tables and state, the state rewritten in the single layout first (the same motion).
+    LoneSpring takeLoneSpring();
+    // RT: its state after steps taken elsewhere: q^n, q^{n-1} (`modes` values each), u_C, the spring's
+    // and the last step's slope; the string goes on from there as if it had taken them itself.
+    void giveLoneSpring(const double* q, const double* qPrev, const LoneSpring& state);
+
     // RT, on a moving bridge, before predictOnMovingBridge(): the live points for a string whose
     // energy stays at most H while its bridge rises by at most `rise` (m; ContactReach::refresh), or
     // every point live. wakeAllMidStep(): every point live from now, between

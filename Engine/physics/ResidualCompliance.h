@@ -49,6 +49,32 @@ public:
     // The spring's energy between n-1 and n: (g^n . delta^n + g^{n-1} . delta^{n-1}) / 4. RT.
     double energy() const;
 
+    // Point j's spring as a caller that steps it elsewhere needs it (LinearStringBank): advance()
+    // is delta^{n+1} = -(kappa - 1) delta^{n-1} - K_jj G_j and g^{n+1} = -(kappa - 1) g^{n-1} -
+    // kappa w_j G_j for a point alone (K = coupling()), and its state (delta, g at n and n-1). RT.
+    struct PointState
+    {
+        double delta = 0.0, deltaPrev = 0.0, force = 0.0, forcePrev = 0.0;
+    };
+    double kappa() const { return kappa_; }
+    double pushPerSlope(int j) const { return active() ? coupling_(j, j) : 0.0; }  // K_jj
+    double forcePerSlope(int j) const { return active() ? kappa_ * weights_[size_t(j)] : 0.0; }
+    PointState pointState(int j) const
+    {
+        if (!active())
+            return {};
+        return {delta_[size_t(j)], deltaPrev_[size_t(j)], force_[size_t(j)], forcePrev_[size_t(j)]};
+    }
+    void setPointState(int j, const PointState& state)
+    {
+        if (!active())
+            return;
+        delta_[size_t(j)] = state.delta;
+        deltaPrev_[size_t(j)] = state.deltaPrev;
+        force_[size_t(j)] = state.force;
+        forcePrev_[size_t(j)] = state.forcePrev;
+    }
+
 private:
     int P_ = 0;
     double kappa_ = 1.0;      // 2 / (1 + theta)

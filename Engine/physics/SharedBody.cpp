@@ -76,6 +76,8 @@ void SharedBody::silence()
     links_.fill({});
     pressure_.fill(0.0);
     partPressure_.fill(0.0);
+    if (banked_)
+        bank_.silence();
     reach_.chooseAgain();  // the bridge's jump to rest may bring the strings' obstacles nearer
 }
 
@@ -185,6 +187,11 @@ void SharedBody::fitLinear(ModalSolver* const* strings, double before, double at
 {
     constexpr double kStep = 1e-9;  // m: any step measures an affine force; this one keeps rounding small
     linearAt_ = at;
+    if (banked_)
+    {
+        linearForce_ = bank_.force(before, at - before, &linearSlope_);
+        return;
+    }
     linearForce_ = trialForce(strings, linearFrom_, count_, before, at, &linearSlope_);
     if (std::isfinite(linearForce_) && std::isfinite(linearSlope_))
         return;
@@ -341,6 +348,25 @@ double SharedBody::solveNode(ModalSolver& string, double before, double arriving
     return force;
 }
 
+bool SharedBody::bankLinear(ModalSolver* const* strings, int from, int to)
+{
+    if (banked_ || oneWay_ || linkImpedance_ > 0.0 || from >= to || !bank_.take(strings + from, to - from))
+        return false;
+    banked_ = true;
+    bankFrom_ = from;
+    reach_.chooseAgain();  // the reach's strings are now the others only
+    return true;
+}
+
+void SharedBody::unbankLinear(ModalSolver* const* strings)
+{
+    if (!banked_)
+        return;
+    bank_.giveBack(strings + bankFrom_);
+    banked_ = false;
+    reach_.chooseAgain();
+}
+
 void SharedBody::keepPart(bool keep)
 {
     if (keep == partKept_)
@@ -438,14 +464,17 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
         finishBody(predicted, read);
         return;
     }
-    reach_.choose(strings, count, oneWay_, bridge_, bridgeBefore_);
-    for (int i = 0; i < count; ++i)
+    const int own = banked_ ? bankFrom_ : count;  // the strings stepped by their own solvers
+    reach_.choose(strings, own, oneWay_, bridge_, bridgeBefore_);
+    for (int i = 0; i < own; ++i)
         strings[i]->predictOnMovingBridge();
+    if (banked_)
+        bank_.predict();
     evaluations_ = trials_ = 0;
     split_ = split;
     count_ = count;
     linearFrom_ = split;
-    for (int i = split; i < count && linearFrom_ < count; ++i)
+    for (int i = split; i < own && linearFrom_ < count; ++i)
         if (!standsOnSprings(*strings[i]))
             linearFrom_ = count;  // one of them can leave a point: each is solved at every evaluation
     if (linearFrom_ == count)
@@ -472,11 +501,13 @@ void SharedBody::step(ModalSolver* const* strings, int count, int split)
     force_ = playedForce_;  // with the strings after split when they are not linear
     if (linearFrom_ < count)
     {
-        partForce_ = solveForce(strings, split, count, before, bridge);
+        partForce_ = banked_ ? bank_.solve(before, bridge - before) : solveForce(strings, split, count, before, bridge);
         force_ += partForce_;
     }
-    for (int i = 0; i < count; ++i)
+    for (int i = 0; i < own; ++i)
         strings[i]->finishOnMovingBridge();
+    if (banked_)
+        bank_.finish();
     if (split < count && partKept_)
         stepPart(partForce_);
     finishBody(predicted, read);

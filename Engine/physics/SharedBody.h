@@ -22,6 +22,7 @@
 
 #include "physics/BodyReach.h"
 #include "physics/ExactOscillator.h"
+#include "physics/LinearStringBank.h"
 #include "physics/ModalBody.h"
 #include "physics/ModalSolver.h"
 
@@ -92,6 +93,17 @@ public:
     double pressure(int channel) const { return pressure_[size_t(channel)]; }
     // RT: the same from the forces of the strings after split.
     double partPressure(int channel) const { return partPressure_[size_t(channel)]; }
+    // RT: the strings from `from` to `to` (the sympathetic strings, after split) stepped as one
+    // LinearStringBank from the next step() on, their solvers untouched (not to be read) until
+    // unbankLinear() gives their state back. False, and nothing taken, unless every one is held by a
+    // lone spring (LinearStringBank::fits), the bridge is solved within the step (two way, no delayed
+    // link) and they are at most LinearStringBank::kLanes. step() must then be given the same strings,
+    // with split = from and count = to. Their motion is their own solvers' to rounding (single steps
+    // where alone they pair them), and the energy balance theirs.
+    bool bankLinear(ModalSolver* const* strings, int from, int to);
+    void unbankLinear(ModalSolver* const* strings);
+    bool banked() const { return banked_; }
+
     // RT: whether step() keeps partPressure() (by default it does). Not kept, the copy of the modes
     // rests and partPressure() is 0: a caller that does not hear the share spares the copy's pass.
     // Kept again, the copy starts from rest, so until the body's modes have rung out the share misses
@@ -139,6 +151,9 @@ private:
     bool resolved_ = false;
     std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
     bool partKept_ = true;
+    LinearStringBank bank_;
+    bool banked_ = false;
+    int bankFrom_ = 0;
     double dt_ = 0.0, beta_ = 0.0, force_ = 0.0;
     double bridge_ = 0.0, bridgeBefore_ = 0.0;             // w^n, w^{n-1}
     std::array<double, 2> pressure_{}, partPressure_{};     // per channel (Pa)

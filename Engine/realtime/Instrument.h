@@ -184,6 +184,9 @@ private:
     // either end of its ramp); at 1 throughout the body's own pressure carries them and the share's
     // copy of the modes rests (SharedBody::keepPart).
     bool tarafShareHeard_ = true;
+    // Whether this chunk's sympathetic strings step as one bank (SharedBody::bankLinear): then their
+    // voices are not stepped one by one, and their guard is the body's (its pressure kept finite).
+    bool tarafBanked_ = false;
     int chunksSinceSnapshot_ = 0;
     double chunkPenetration_ = 0.0;
     long limitedSamples_ = 0;

@@ -62,8 +62,15 @@ void Instrument::stepOnBody(Sounding& s, int samples)
         sympathetic_.voice(j).allowEnergy(supply);
     }
     std::array<ModalSolver*, kSlots + kMaxSympatheticStrings> solvers{};
+    // The sympathetic strings held by their springs alone step as one bank through the chunk.
+    const int taraf = sympathetic_.count();
+    for (int j = 0; j < taraf; ++j)
+        solvers[size_t(s.count + j)] = &sympathetic_.voice(j).solver();
+    tarafBanked_ = taraf > 0 && body.bankLinear(solvers.data(), s.count, s.count + taraf);
     for (long k = 0; k < steps; ++k)
         stepBodyOnce(s, k, solvers.data());
+    if (tarafBanked_)
+        body.unbankLinear(solvers.data());
 }
 
 // One internal step k of the chunk, the strings' solvers handed to the body in `solvers`: writes the
@@ -75,8 +82,9 @@ void Instrument::stepBodyOnce(Sounding& s, long k, ModalSolver** solvers)
     const int taraf = sympathetic_.count();
     for (int i = 0; i < s.count; ++i)
         solvers[i] = &s.voices[size_t(i)]->beginOnBody();
-    for (int j = 0; j < taraf; ++j)
-        solvers[s.count + j] = &sympathetic_.voice(j).beginOnBody();
+    if (!tarafBanked_)
+        for (int j = 0; j < taraf; ++j)
+            solvers[s.count + j] = &sympathetic_.voice(j).beginOnBody();
     body.step(solvers, s.count + taraf, s.count);
     ++activity_.bodySteps;
     activity_.bodySolves += body.lastEvaluations();
@@ -91,7 +99,7 @@ void Instrument::stepBodyOnce(Sounding& s, long k, ModalSolver** solvers)
         s.blocks[size_t(i)][k] = s.voices[size_t(i)]->finishOnBody();
         ranAway = ranAway || s.voices[size_t(i)]->blowUps() != blowUps;
     }
-    for (int j = 0; j < taraf; ++j)
+    for (int j = 0; j < taraf && !tarafBanked_; ++j)
     {
         const long blowUps = sympathetic_.voice(j).blowUps();
         sympathetic_.voice(j).finishOnBody();  // unheard: the body carries them (the guard still runs)

@@ -1,0 +1,178 @@
+#include "physics/LinearStringBank.h"
+
+#include <algorithm>
+
+namespace jawari
+{
+
+bool LinearStringBank::take(ModalSolver* const* strings, int count)
+{
+    if (count > kLanes)
+        return false;
+    for (int i = 0; i < count; ++i)
+        if (!fits(*strings[i]))
+            return false;
+    for (auto* table : {&a_, &e_, &phi_, &q_, &qPrev_})
+        for (auto& row : *table)
+            row.fill(0.0);  // the lanes and modes beyond the strings' stay at rest
+    for (auto* lanes : {&height_, &stiffness_, &chordSlope_, &weight_, &coupling_, &stringCoupling_, &forceScale_,
+                        &kappa_, &pushPerSlope_, &forcePerSlope_, &uTilde_, &uC_, &uCPrev_, &slope_, &delta_,
+                        &deltaPrev_, &spring_, &springPrev_})
+        lanes->fill(0.0);
+    count_ = count;
+    modes_ = 0;
+    for (int i = 0; i < count; ++i)
+    {
+        const ModalSolver::LoneSpring s = strings[i]->takeLoneSpring();
+        modesOf_[size_t(i)] = s.modes;
+        modes_ = std::max(modes_, s.modes);
+        for (int p = 0; p < s.modes; ++p)
+        {
+            a_[p][i] = s.a[p];
+            e_[p][i] = s.e[p];
+            phi_[p][i] = s.phi[p];
+            q_[p][i] = s.q[p];
+            qPrev_[p][i] = s.qPrev[p];
+        }
+        height_[size_t(i)] = s.height;
+        stiffness_[size_t(i)] = s.stiffness;
+        chordSlope_[size_t(i)] = s.chordSlope;
+        weight_[size_t(i)] = s.weight;
+        coupling_[size_t(i)] = s.coupling;
+        stringCoupling_[size_t(i)] = s.stringCoupling;
+        forceScale_[size_t(i)] = s.forceScale;
+        kappa_[size_t(i)] = s.kappa;
+        pushPerSlope_[size_t(i)] = s.pushPerSlope;
+        forcePerSlope_[size_t(i)] = s.forcePerSlope;
+        uC_[size_t(i)] = s.uC;
+        uCPrev_[size_t(i)] = s.uCPrev;
+        slope_[size_t(i)] = s.slope;
+        delta_[size_t(i)] = s.spring.delta;
+        deltaPrev_[size_t(i)] = s.spring.deltaPrev;
+        spring_[size_t(i)] = s.spring.force;
+        springPrev_[size_t(i)] = s.spring.forcePrev;
+    }
+    return true;
+}
+
+void LinearStringBank::giveBack(ModalSolver* const* strings)
+{
+    for (int i = 0; i < count_; ++i)
+    {
+        std::array<double, kModes> q{}, qPrev{};
+        ModalSolver::LoneSpring s;
+        s.modes = modesOf_[size_t(i)];
+        for (int p = 0; p < s.modes; ++p)
+        {
+            q[size_t(p)] = q_[p][i];
+            qPrev[size_t(p)] = qPrev_[p][i];
+        }
+        s.uC = uC_[size_t(i)];
+        s.uCPrev = uCPrev_[size_t(i)];
+        s.slope = slope_[size_t(i)];
+        s.spring = {delta_[size_t(i)], deltaPrev_[size_t(i)], spring_[size_t(i)], springPrev_[size_t(i)]};
+        strings[i]->giveLoneSpring(q.data(), qPrev.data(), s);
+    }
+    count_ = 0;
+}
+
+void LinearStringBank::predict()
+{
+    Lanes u{};
+    for (int p = 0; p < modes_; ++p)
+    {
+#pragma omp simd
+        for (int i = 0; i < kLanes; ++i)
+        {
+            const double next = a_[p][i] * q_[p][i] - e_[p][i] * qPrev_[p][i];
+            qPrev_[p][i] = next;
+            u[size_t(i)] += phi_[p][i] * next;
+        }
+    }
+    uTilde_ = u;
+}
+
+// r + k G(r) = b with the spring's affine chord slope G(r) = -K s + d r (ContactLaw's bilateral law):
+// r = (b + k K s) / (1 + k d), as solveScalarContact poses it.
+void LinearStringBank::springRoots(double before, double move, Lanes& s, Lanes& r) const
+{
+#pragma omp simd
+    for (int i = 0; i < kLanes; ++i)
+    {
+        s[size_t(i)] = height_[size_t(i)] + before - uCPrev_[size_t(i)] - deltaPrev_[size_t(i)];
+        const double b = uTilde_[size_t(i)] - uCPrev_[size_t(i)] - kappa_[size_t(i)] * deltaPrev_[size_t(i)] - move;
+        const double atZero = -stiffness_[size_t(i)] * s[size_t(i)];
+        r[size_t(i)] = (b - coupling_[size_t(i)] * atZero) / (1.0 + coupling_[size_t(i)] * chordSlope_[size_t(i)]);
+    }
+}
+
+double LinearStringBank::force(double before, double move, double* slope) const
+{
+    Lanes s, r;
+    springRoots(before, move, s, r);
+    double sum = 0.0, dSum = 0.0;
+    for (int i = 0; i < count_; ++i)
+    {
+        const double d = chordSlope_[size_t(i)];
+        sum += weight_[size_t(i)] * (-stiffness_[size_t(i)] * s[size_t(i)] + d * r[size_t(i)]);
+        dSum -= weight_[size_t(i)] * d / (1.0 + coupling_[size_t(i)] * d);  // b falls by one per metre of move
+    }
+    if (slope != nullptr)
+        *slope = dSum;
+    return sum;
+}
+
+double LinearStringBank::solve(double before, double move)
+{
+    Lanes s, r;
+    springRoots(before, move, s, r);
+    double sum = 0.0;
+    for (int i = 0; i < count_; ++i)
+    {
+        slope_[size_t(i)] = -stiffness_[size_t(i)] * s[size_t(i)] + chordSlope_[size_t(i)] * r[size_t(i)];
+        sum += weight_[size_t(i)] * slope_[size_t(i)];
+    }
+    return sum;
+}
+
+// u_C^{n+1} = u~ - kString G, the residual compliance's advance, and q^{n+1} = q~ + c phi with
+// c = -(dt^2/mu) w G, each string's own.
+void LinearStringBank::finish()
+{
+    Lanes c;
+#pragma omp simd
+    for (int i = 0; i < kLanes; ++i)
+    {
+        const double G = slope_[size_t(i)];
+        uCPrev_[size_t(i)] = uC_[size_t(i)];
+        uC_[size_t(i)] = uTilde_[size_t(i)] - stringCoupling_[size_t(i)] * G;
+        const double back = kappa_[size_t(i)] - 1.0;
+        const double delta = delta_[size_t(i)], spring = spring_[size_t(i)];
+        delta_[size_t(i)] = -back * deltaPrev_[size_t(i)] - pushPerSlope_[size_t(i)] * G;
+        spring_[size_t(i)] = -back * springPrev_[size_t(i)] - forcePerSlope_[size_t(i)] * G;
+        deltaPrev_[size_t(i)] = delta;
+        springPrev_[size_t(i)] = spring;
+        c[size_t(i)] = -forceScale_[size_t(i)] * weight_[size_t(i)] * G;
+    }
+    for (int p = 0; p < modes_; ++p)
+    {
+#pragma omp simd
+        for (int i = 0; i < kLanes; ++i)
+        {
+            const double next = qPrev_[p][i] + c[size_t(i)] * phi_[p][i];
+            qPrev_[p][i] = q_[p][i];
+            q_[p][i] = next;
+        }
+    }
+}
+
+void LinearStringBank::silence()
+{
+    for (auto* table : {&q_, &qPrev_})
+        for (auto& row : *table)
+            row.fill(0.0);
+    for (auto* lanes : {&uTilde_, &uC_, &uCPrev_, &slope_, &delta_, &deltaPrev_, &spring_, &springPrev_})
+        lanes->fill(0.0);
+}
+
+}  // namespace jawari

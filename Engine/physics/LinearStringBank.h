@@ -1,0 +1,67 @@
+#pragma once
+// Strings held by one spring each and nothing else (the sitar's sympathetic strings on their
+// bridge), stepped together on a moving bridge: their modes side by side, one string a lane
+// (docs/design.md, "Sympathetic strings"). Each is linear, so its force on the bridge is affine in
+// the bridge's displacement, and the bank gives it in closed form: the secant on the bridge
+// (SharedBody) needs no solve of theirs per evaluation. Each string's step is the one its own solver
+// takes (ModalSolver::LoneSpring), in the single form (a string alone pairs its steps: the same
+// motion to rounding), so the energy balance is the solver's.
+//
+// The strings are taken from their solvers (take) and given back (giveBack) around a run of steps;
+// in between their solvers are not to be read. RT: no allocation.
+
+#include "physics/ModalSolver.h"
+
+#include <array>
+
+namespace jawari
+{
+
+class LinearStringBank
+{
+public:
+    static constexpr int kLanes = 16;  // strings
+    static constexpr int kModes = 16;  // active modes per string
+
+    static bool fits(const ModalSolver& string) { return string.isLoneSpring(kModes); }
+
+    // RT: the `count` strings' tables and state; false (nothing taken) if there are more than kLanes
+    // or one does not fit.
+    bool take(ModalSolver* const* strings, int count);
+    // RT: their state back into their solvers; the bank is empty after.
+    void giveBack(ModalSolver* const* strings);
+    int count() const { return count_; }
+
+    // RT: the step's prediction q~ = a q^n - e q^{n-1} and each string's u~ at its spring.
+    void predict();
+    // RT: sum_i w_i G_i with the bridge at `before` (n-1) and `before + move` (n+1), and (optional)
+    // its derivative in `move`.
+    double force(double before, double move, double* slope = nullptr) const;
+    // RT: the same, kept as the step's solve.
+    double solve(double before, double move);
+    // RT: the step completed with the last solve.
+    void finish();
+    // RT: every string at rest (the body silenced).
+    void silence();
+
+private:
+    using Lanes = std::array<double, kLanes>;
+    // The spring's r at the bridge's (before, move), lane by lane.
+    void springRoots(double before, double move, Lanes& s, Lanes& r) const;
+
+    int count_ = 0;
+    int modes_ = 0;  // the most active modes of any string (the rest of the lanes are zero)
+    // [mode][string]
+    using Table = std::array<Lanes, kModes>;
+    alignas(64) Table a_{}, e_{}, phi_{};
+    alignas(64) Table q_{};      // q^n
+    alignas(64) Table qPrev_{};  // q^{n-1}, then q~ after predict()
+    // Per string (the constants of ModalSolver::LoneSpring, and its state).
+    alignas(64) Lanes height_{}, stiffness_{}, chordSlope_{}, weight_{}, coupling_{}, stringCoupling_{},
+        forceScale_{}, kappa_{}, pushPerSlope_{}, forcePerSlope_{};
+    alignas(64) Lanes uTilde_{}, uC_{}, uCPrev_{}, slope_{};
+    alignas(64) Lanes delta_{}, deltaPrev_{}, spring_{}, springPrev_{};  // the residual compliance
+    std::array<int, kLanes> modesOf_{};
+};
+
+}  // namespace jawari
