@@ -160,13 +160,15 @@ struct VoicesOnBody
         for (size_t i = 0; i < voices.size(); ++i)
             if (!plucked[i])
                 voices[i]->allowEnergy(supply);
+        // Banked strings (SharedBody::bankLinear) are stepped by the body, their voices left alone.
+        const size_t own = body->banked() ? size_t(split) : voices.size();
         for (int k = 0; k < voices[0]->oversampling(); ++k)
         {
-            for (auto& voice : voices)
-                voice->beginOnBody();
+            for (size_t i = 0; i < own; ++i)
+                voices[i]->beginOnBody();
             body->step(solvers.data(), static_cast<int>(solvers.size()), split);
             internal[k] = voices[0]->finishOnBody();
-            for (size_t i = 1; i < voices.size(); ++i)
+            for (size_t i = 1; i < own; ++i)
                 voices[i]->finishOnBody();
             if (pressure)
                 internal[k] = body->pressure(0);
@@ -227,6 +229,10 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
                                     "(\"method\": \"reference\")");
     auto v = voicesOnBody(scene);
     v.body->setDelayedLink(options.bodyLinkImpedance);
+    // The strings after the played one, where each is held by a spring alone, step as one bank
+    // throughout, as the instrument's sympathetic strings do.
+    if (v.split < static_cast<int>(v.solvers.size()))
+        v.body->bankLinear(v.solvers.data(), v.split, static_cast<int>(v.solvers.size()));
     Voice& played = *v.voices[0];
     const int os = played.oversampling();
     const bool pressure = scene.pickup.quantity == PickupQuantity::pressure;
@@ -257,6 +263,7 @@ RenderResult renderOnSharedBody(const Scene& scene, const RenderOptions& options
     }
     stats.cpuSeconds = threadCpuSeconds() - start;
     stats.steps = static_cast<long long>(raw.size()) * os;
+    v.body->unbankLinear(v.solvers.data());
     for (const auto& voice : v.voices)
         if (voice->blowUps() > 0)
             throw std::runtime_error(lostStabilityMessage(scene.simulation, voice->blowUps()));

@@ -12,20 +12,21 @@ bool LinearStringBank::take(ModalSolver* const* strings, int count)
     for (int i = 0; i < count; ++i)
         if (!fits(*strings[i]))
             return false;
+    modes_ = 0;
+    for (int i = 0; i < count; ++i)
+        modes_ = std::max(modes_, strings[i]->activeModeCount());
     for (auto* table : {&a_, &e_, &phi_, &q_, &qPrev_})
-        for (auto& row : *table)
-            row.fill(0.0);  // the lanes and modes beyond the strings' stay at rest
+        for (int p = 0; p < modes_; ++p)
+            (*table)[size_t(p)].fill(0.0);  // the lanes and modes beyond the strings' stay at rest
     for (auto* lanes : {&height_, &stiffness_, &chordSlope_, &weight_, &coupling_, &stringCoupling_, &forceScale_,
                         &kappa_, &pushPerSlope_, &forcePerSlope_, &uTilde_, &uC_, &uCPrev_, &slope_, &delta_,
                         &deltaPrev_, &spring_, &springPrev_})
         lanes->fill(0.0);
     count_ = count;
-    modes_ = 0;
     for (int i = 0; i < count; ++i)
     {
         const ModalSolver::LoneSpring s = strings[i]->takeLoneSpring();
         modesOf_[size_t(i)] = s.modes;
-        modes_ = std::max(modes_, s.modes);
         for (int p = 0; p < s.modes; ++p)
         {
             a_[p][i] = s.a[p];
@@ -59,7 +60,7 @@ void LinearStringBank::giveBack(ModalSolver* const* strings)
 {
     for (int i = 0; i < count_; ++i)
     {
-        std::array<double, kModes> q{}, qPrev{};
+        std::array<double, kModes> q, qPrev;
         ModalSolver::LoneSpring s;
         s.modes = modesOf_[size_t(i)];
         for (int p = 0; p < s.modes; ++p)

@@ -21,7 +21,9 @@ class LinearStringBank
 {
 public:
     static constexpr int kLanes = 16;  // strings
-    static constexpr int kModes = 16;  // active modes per string
+    // Active modes per string: the instrument's sympathetic strings have 16, a scene's as many as its
+    // automatic quality gives them.
+    static constexpr int kModes = 256;
 
     static bool fits(const ModalSolver& string) { return string.isLoneSpring(kModes); }
 
@@ -50,7 +52,7 @@ private:
     void springRoots(double before, double move, Lanes& s, Lanes& r) const;
 
     int count_ = 0;
-    int modes_ = 0;  // the most active modes of any string (the rest of the lanes are zero)
+    int modes_ = 0;  // the most active modes of any string: the rows stepped (a shorter string's are zero)
     // [mode][string]
     using Table = std::array<Lanes, kModes>;
     alignas(64) Table a_{}, e_{}, phi_{};
