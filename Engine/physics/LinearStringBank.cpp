@@ -5,6 +5,27 @@
 namespace jawari
 {
 
+using LoneSpring = ModalSolver::LoneSpring;
+const std::array<LinearStringBank::Field, LinearStringBank::kConstants + 7> LinearStringBank::kFields = {{
+    {&LinearStringBank::height_, &LoneSpring::height},
+    {&LinearStringBank::stiffness_, &LoneSpring::stiffness},
+    {&LinearStringBank::chordSlope_, &LoneSpring::chordSlope},
+    {&LinearStringBank::weight_, &LoneSpring::weight},
+    {&LinearStringBank::coupling_, &LoneSpring::coupling},
+    {&LinearStringBank::stringCoupling_, &LoneSpring::stringCoupling},
+    {&LinearStringBank::forceScale_, &LoneSpring::forceScale},
+    {&LinearStringBank::kappa_, &LoneSpring::kappa},
+    {&LinearStringBank::pushPerSlope_, &LoneSpring::pushPerSlope},
+    {&LinearStringBank::forcePerSlope_, &LoneSpring::forcePerSlope},
+    {&LinearStringBank::uC_, &LoneSpring::uC},
+    {&LinearStringBank::uCPrev_, &LoneSpring::uCPrev},
+    {&LinearStringBank::slope_, &LoneSpring::slope},
+    {&LinearStringBank::delta_, &LoneSpring::delta},
+    {&LinearStringBank::deltaPrev_, &LoneSpring::deltaPrev},
+    {&LinearStringBank::spring_, &LoneSpring::springForce},
+    {&LinearStringBank::springPrev_, &LoneSpring::springForcePrev},
+}};
+
 bool LinearStringBank::take(ModalSolver* const* strings, int count)
 {
     if (count > kLanes)
@@ -18,10 +39,9 @@ bool LinearStringBank::take(ModalSolver* const* strings, int count)
     for (auto* table : {&a_, &e_, &phi_, &q_, &qPrev_})
         for (int p = 0; p < modes_; ++p)
             (*table)[size_t(p)].fill(0.0);  // the lanes and modes beyond the strings' stay at rest
-    for (auto* lanes : {&height_, &stiffness_, &chordSlope_, &weight_, &coupling_, &stringCoupling_, &forceScale_,
-                        &kappa_, &pushPerSlope_, &forcePerSlope_, &uTilde_, &uC_, &uCPrev_, &slope_, &delta_,
-                        &deltaPrev_, &spring_, &springPrev_})
-        lanes->fill(0.0);
+    for (const auto& field : kFields)
+        (this->*field.first).fill(0.0);
+    uTilde_.fill(0.0);
     count_ = count;
     for (int i = 0; i < count; ++i)
     {
@@ -35,23 +55,8 @@ bool LinearStringBank::take(ModalSolver* const* strings, int count)
             q_[p][i] = s.q[p];
             qPrev_[p][i] = s.qPrev[p];
         }
-        height_[size_t(i)] = s.height;
-        stiffness_[size_t(i)] = s.stiffness;
-        chordSlope_[size_t(i)] = s.chordSlope;
-        weight_[size_t(i)] = s.weight;
-        coupling_[size_t(i)] = s.coupling;
-        stringCoupling_[size_t(i)] = s.stringCoupling;
-        forceScale_[size_t(i)] = s.forceScale;
-        kappa_[size_t(i)] = s.kappa;
-        pushPerSlope_[size_t(i)] = s.pushPerSlope;
-        forcePerSlope_[size_t(i)] = s.forcePerSlope;
-        uC_[size_t(i)] = s.uC;
-        uCPrev_[size_t(i)] = s.uCPrev;
-        slope_[size_t(i)] = s.slope;
-        delta_[size_t(i)] = s.spring.delta;
-        deltaPrev_[size_t(i)] = s.spring.deltaPrev;
-        spring_[size_t(i)] = s.spring.force;
-        springPrev_[size_t(i)] = s.spring.forcePrev;
+        for (const auto& [lanes, field] : kFields)
+            (this->*lanes)[size_t(i)] = s.*field;
     }
     return true;
 }
@@ -68,10 +73,8 @@ void LinearStringBank::giveBack(ModalSolver* const* strings)
             q[size_t(p)] = q_[p][i];
             qPrev[size_t(p)] = qPrev_[p][i];
         }
-        s.uC = uC_[size_t(i)];
-        s.uCPrev = uCPrev_[size_t(i)];
-        s.slope = slope_[size_t(i)];
-        s.spring = {delta_[size_t(i)], deltaPrev_[size_t(i)], spring_[size_t(i)], springPrev_[size_t(i)]};
+        for (size_t f = kConstants; f < kFields.size(); ++f)
+            s.*kFields[f].second = (this->*kFields[f].first)[size_t(i)];
         strings[i]->giveLoneSpring(q.data(), qPrev.data(), s);
     }
     count_ = 0;
@@ -172,8 +175,9 @@ void LinearStringBank::silence()
     for (auto* table : {&q_, &qPrev_})
         for (auto& row : *table)
             row.fill(0.0);
-    for (auto* lanes : {&uTilde_, &uC_, &uCPrev_, &slope_, &delta_, &deltaPrev_, &spring_, &springPrev_})
-        lanes->fill(0.0);
+    for (size_t f = kConstants; f < kFields.size(); ++f)
+        (this->*kFields[f].first).fill(0.0);
+    uTilde_.fill(0.0);
 }
 
 }  // namespace jawari

@@ -13,6 +13,7 @@
 #include "physics/ModalSolver.h"
 
 #include <array>
+#include <utility>
 
 namespace jawari
 {
@@ -64,6 +65,11 @@ private:
     alignas(64) Lanes uTilde_{}, uC_{}, uCPrev_{}, slope_{};
     alignas(64) Lanes delta_{}, deltaPrev_{}, spring_{}, springPrev_{};  // the residual compliance
     std::array<int, kLanes> modesOf_{};
+    // Each per-string value and the LoneSpring field it comes from: the constants, taken; the state,
+    // taken and given back.
+    using Field = std::pair<Lanes LinearStringBank::*, double ModalSolver::LoneSpring::*>;
+    static constexpr int kConstants = 10;
+    static const std::array<Field, kConstants + 7> kFields;
 };
 
 }  // namespace jawari

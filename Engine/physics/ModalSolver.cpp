@@ -266,7 +266,11 @@ ModalSolver::LoneSpring ModalSolver::takeLoneSpring()
     out.kappa = compliance_.kappa();
     out.pushPerSlope = compliance_.pushPerSlope(0);
     out.forcePerSlope = compliance_.forcePerSlope(0);
-    out.spring = compliance_.pointState(0);
+    const ResidualCompliance::PointState spring = compliance_.pointState(0);
+    out.delta = spring.delta;
+    out.deltaPrev = spring.deltaPrev;
+    out.springForce = spring.force;
+    out.springForcePrev = spring.forcePrev;
     return out;
 }
 
@@ -278,7 +282,7 @@ void ModalSolver::giveLoneSpring(const double* q, const double* qPrev, const Lon
     uC_[0] = state.uC;
     uCPrev_[0] = state.uCPrev;
     slope_[0] = state.slope;
-    compliance_.setPointState(0, state.spring);
+    compliance_.setPointState(0, {state.delta, state.deltaPrev, state.springForce, state.springForcePrev});
     lastPenetration_ = -std::numeric_limits<double>::infinity();
     trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();
 }

@@ -155,11 +155,13 @@ public:
         const double* phi = nullptr;
         const double* q = nullptr;      // q^n
         const double* qPrev = nullptr;  // q^{n-1}
+        // Constants.
         double height = 0.0, stiffness = 0.0, chordSlope = 0.0, weight = 0.0;
         double coupling = 0.0, stringCoupling = 0.0, forceScale = 0.0;
-        double uC = 0.0, uCPrev = 0.0, slope = 0.0;
         double kappa = 1.0, pushPerSlope = 0.0, forcePerSlope = 0.0;
-        ResidualCompliance::PointState spring;
+        // State: u_C at n and n-1, the last step's G, the spring's delta and g at n and n-1.
+        double uC = 0.0, uCPrev = 0.0, slope = 0.0;
+        double delta = 0.0, deltaPrev = 0.0, springForce = 0.0, springForcePrev = 0.0;
     };
     // Whether the string is one (loneSpring) that takes two steps per pass, with no force on it and
     // at most `most` active modes.
