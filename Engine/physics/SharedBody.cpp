@@ -353,8 +353,7 @@ bool SharedBody::bankLinear(ModalSolver* const* strings, int from, int to)
     if (banked_ || oneWay_ || linkImpedance_ > 0.0 || from >= to || !bank_.take(strings + from, to - from))
         return false;
     banked_ = true;
-    bankFrom_ = from;
-    reach_.chooseAgain();  // the reach's strings are now the others only
+    bankFrom_ = from;  // the reach takes the others only from now (BodyReach sees the shorter list)
     return true;
 }
 
@@ -364,7 +363,6 @@ void SharedBody::unbankLinear(ModalSolver* const* strings)
         return;
     bank_.giveBack(strings + bankFrom_);
     banked_ = false;
-    reach_.chooseAgain();
 }
 
 void SharedBody::keepPart(bool keep)
