@@ -115,6 +115,8 @@ public:
     // RT: the body's modes' part of the joined H^{n-1/2} (J); with the strings' energyOnBridge() at
     // bridgeDisplacement() and the one before, the whole. No allocation.
     double bodyEnergy() const;
+    // RT: the joined energy of the body and `count` strings (not while some are banked: their solvers
+    // hold the state they had when the bank took them).
     double energy(const ModalSolver* const* strings, int count) const;
     // RT: whether the last step was solved again with every point live (BodyReach).
     bool lastResolved() const { return resolved_; }
