@@ -497,9 +497,7 @@ TEST_CASE("The guards act and are counted: samples beyond the output's ceiling, 
         Instrument instrument;
         auto c = freeControls();
         c.gainDb = 24.0;
-        instrument.setControls(c);
-        instrument.install(pack.get(), nullptr);
-        instrument.settleControls();
+        test::start(instrument, *pack, c);
         instrument.clearActivity();
         for (int i = 0; i < kMidiVoices; ++i)
             instrument.noteOn(48 + 2 * i, 1.0);

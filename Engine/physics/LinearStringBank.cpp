@@ -96,10 +96,12 @@ void LinearStringBank::predict()
     uTilde_ = u;
 }
 
-// r + k G(r) = b with the spring's affine chord slope G(r) = -K s + d r (ContactLaw's bilateral law):
-// r = (b + k K s) / (1 + k d), as solveScalarContact poses it.
-void LinearStringBank::springRoots(double before, double move, Lanes& s, Lanes& r) const
+// Each string's slope G at the bridge's (before, move): the root of r + k G(r) = b with the spring's
+// affine chord slope G(r) = -K s + d r (ContactLaw's bilateral law), r = (b + k K s) / (1 + k d), as
+// solveScalarContact poses it.
+void LinearStringBank::springSlopes(double before, double move, Lanes& G) const
 {
+    Lanes s, r;
 #pragma omp simd
     for (int i = 0; i < kLanes; ++i)
     {
@@ -108,17 +110,19 @@ void LinearStringBank::springRoots(double before, double move, Lanes& s, Lanes& 
         const double atZero = -stiffness_[size_t(i)] * s[size_t(i)];
         r[size_t(i)] = (b - coupling_[size_t(i)] * atZero) / (1.0 + coupling_[size_t(i)] * chordSlope_[size_t(i)]);
     }
+    for (int i = 0; i < count_; ++i)
+        G[size_t(i)] = -stiffness_[size_t(i)] * s[size_t(i)] + chordSlope_[size_t(i)] * r[size_t(i)];
 }
 
 double LinearStringBank::force(double before, double move, double* slope) const
 {
-    Lanes s, r;
-    springRoots(before, move, s, r);
+    Lanes G{};
+    springSlopes(before, move, G);
     double sum = 0.0, dSum = 0.0;
     for (int i = 0; i < count_; ++i)
     {
         const double d = chordSlope_[size_t(i)];
-        sum += weight_[size_t(i)] * (-stiffness_[size_t(i)] * s[size_t(i)] + d * r[size_t(i)]);
+        sum += weight_[size_t(i)] * G[size_t(i)];
         dSum -= weight_[size_t(i)] * d / (1.0 + coupling_[size_t(i)] * d);  // b falls by one per metre of move
     }
     if (slope != nullptr)
@@ -128,14 +132,10 @@ double LinearStringBank::force(double before, double move, double* slope) const
 
 double LinearStringBank::solve(double before, double move)
 {
-    Lanes s, r;
-    springRoots(before, move, s, r);
+    springSlopes(before, move, slope_);
     double sum = 0.0;
     for (int i = 0; i < count_; ++i)
-    {
-        slope_[size_t(i)] = -stiffness_[size_t(i)] * s[size_t(i)] + chordSlope_[size_t(i)] * r[size_t(i)];
         sum += weight_[size_t(i)] * slope_[size_t(i)];
-    }
     return sum;
 }
 

@@ -49,8 +49,8 @@ public:
 
 private:
     using Lanes = std::array<double, kLanes>;
-    // The spring's r at the bridge's (before, move), lane by lane.
-    void springRoots(double before, double move, Lanes& s, Lanes& r) const;
+    // Each string's slope G with the bridge at (before, move), into G's first count() lanes.
+    void springSlopes(double before, double move, Lanes& G) const;
 
     int count_ = 0;
     int modes_ = 0;  // the most active modes of any string: the rows stepped (a shorter string's are zero)

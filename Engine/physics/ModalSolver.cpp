@@ -255,7 +255,7 @@ ModalSolver::LoneSpring ModalSolver::takeLoneSpring()
     out.qPrev = state_.qPrev();
     out.height = contacts_[0].height;
     out.stiffness = law.stiffness;
-    out.chordSlope = 0.5 * law.stiffness + law.stepDamping;
+    out.chordSlope = chordSlope(law, 0.0, 0.0).derivative;  // the spring's G' at every r
     out.weight = contacts_[0].weight;
     out.coupling = system_.coupling()(0, 0);
     out.stringCoupling = stringCoupling_(0, 0);
