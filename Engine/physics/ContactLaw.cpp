@@ -337,7 +337,7 @@ double chordSlopeDerivative(const ContactLaw& law, double s, const ScalarContact
 }
 
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
-                                         const DividedSeries* series, const KnownPower* known)
+                                         const DividedSeries* series, const KnownPower* known, const NearbyRoot* nearby)
 {
     ScalarContactSolution sol;
     if (law.bilateral)
@@ -377,10 +377,17 @@ ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double
         series = &local.emplace(dividedSeries(alpha));
     // In contact at n+1: the penetration p = s - r is in (0, d]. The iterate is held as r, which
     // keeps its relative precision when it is far smaller than s.
-    double r = std::max(s - contactStart(*series, alpha, s, b, c, sAlpha), b);
+    KnownPower anchor;
+    double r = 0.0;
+    if (nearby != nullptr && nearby->r >= b && nearby->r < s)
+    {
+        r = nearby->r;
+        anchor = nearby->power;
+    }
+    else
+        r = std::max(s - contactStart(*series, alpha, s, b, c, sAlpha), b);
     const double invS = s > 0.0 ? 1.0 / s : 0.0;
 
-    KnownPower anchor;
     Divided v;
     r = iterateToRoot(*series, alpha, s, invS, sAlpha, b, c, r, anchor, v, sol.iterations);
     sol.r = r;

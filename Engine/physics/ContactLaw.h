@@ -122,10 +122,21 @@ struct ScalarContactSolution
     // is 0 when the string is off the obstacle at n+1 or neither applies.
     KnownPower penetration;
 };
+// A start for the solve below near its root: the root of the same point's equation with the same s
+// and a nearby b, moved along its slope (dr/db = 1 / (1 + k G')), and that root's penetration power
+// as the solve's first anchor. Then one evaluation of D usually ends it (SharedBody's trials, one
+// per bridge displacement tried).
+struct NearbyRoot
+{
+    double r = std::numeric_limits<double>::quiet_NaN();
+    KnownPower power;
+};
 // `series` (optional) is dividedSeries(law.exponent), built once by the caller; without it, or if
-// it was built for another exponent, it is built here. `known` (optional): see KnownPower.
+// it was built for another exponent, it is built here. `known` (optional): see KnownPower. `nearby`
+// (optional): a start in contact, taken where it lies in the root's bracket [b, s).
 ScalarContactSolution solveScalarContact(const ContactLaw& law, double s, double b, double k,
-                                         const DividedSeries* series = nullptr, const KnownPower* known = nullptr);
+                                         const DividedSeries* series = nullptr, const KnownPower* known = nullptr,
+                                         const NearbyRoot* nearby = nullptr);
 // dG/dr at the root `sol` of the scalar equation above, from the solution alone. A bilateral law's
 // G is affine in r, its slope K/2 + R/(2 dt) everywhere. A unilateral law's: G(r) = (psi(s - r) -
 // psi(s)) / r, so G' = (-psi'(p) - G) / r with p = s - r, and psi''(p) / 2 where r is too small

@@ -93,7 +93,19 @@ ScalarContactSolution ContactSystem::solvePoint(int j, double s, double b) const
 
 ScalarContactSolution ContactSystem::solveAlone(int j, double s, double b) const
 {
-    trial_ = {j, s, b, known_[size_t(j)][1], solvePoint(j, s, b)};
+    const KnownPower& known = known_[size_t(j)][1];
+    const ContactLaw& law = points_[size_t(j)].law;
+    const ScalarContactSolution& last = trial_.solution;
+    NearbyRoot nearby;
+    if (trial_.point == j && trial_.s == s && trial_.known == known && last.slope != 0.0 && last.r < s)
+    {
+        // The same equation at another b (the caller's next trial): from its last root, along its slope.
+        const double drdb = 1.0 / (1.0 + A_(j, j) * chordSlopeDerivative(law, s, last));
+        nearby = {last.r + (b - trial_.b) * drdb, last.penetration};
+    }
+    trial_ = {j, s, b, known,
+              solveScalarContact(law, s, b, A_(j, j), &series_[size_t(j)], &known,
+                                 std::isfinite(nearby.r) ? &nearby : nullptr)};
     return trial_.solution;
 }
 
