@@ -155,6 +155,44 @@ TEST_CASE("the safeguarded Newton converges for K from 1e4 to 1e16 and alpha fro
     CHECK(worstPower < 1e-13);
 }
 
+TEST_CASE("a scalar solve started from a nearby equation's root (NearbyRoot) finds the cold solve's root to "
+          "rounding in one evaluation")
+{
+    // SharedBody's trials: the same point and s, b moved by the bridge's next displacement (relative
+    // 1e-9 to 1e-5 of the penetration), started at the last root moved along its slope.
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    long solves = 0, coldEvaluations = 0, nearEvaluations = 0;
+    double worst = 0.0;
+    for (double alpha : {1.0, 1.5, 2.0, 3.0})
+        for (int i = 0; i < 2000; ++i)
+        {
+            const ContactLaw law{std::pow(10.0, 8.0 + 4.0 * std::abs(unit(rng))), alpha};
+            const double k = std::pow(10.0, -9.0 + 2.0 * unit(rng));
+            const double s = 1e-6 * std::abs(unit(rng));
+            const double b = s - 2e-6 * std::abs(unit(rng));  // pressing at n+1
+            const auto first = solveScalarContact(law, s, b, k);
+            if (first.slope == 0.0 || !(first.r < s))
+                continue;
+            const double move = (s - first.r) * std::pow(10.0, -9.0 + 4.0 * std::abs(unit(rng))) * unit(rng);
+            const double drdb = 1.0 / (1.0 + k * chordSlopeDerivative(law, s, first));
+            const NearbyRoot nearby{first.r + move * drdb, first.penetration};
+            const auto cold = solveScalarContact(law, s, b + move, k);
+            const auto warm = solveScalarContact(law, s, b + move, k, nullptr, nullptr, &nearby);
+            worst = std::max(worst, std::abs(warm.r - cold.r) / (std::abs(cold.r) + (s - cold.r)));
+            REQUIRE(warm.slope == Approx(cold.slope).epsilon(1e-12));
+            coldEvaluations += cold.iterations;
+            nearEvaluations += warm.iterations;
+            ++solves;
+        }
+    INFO(solves << " solves: " << coldEvaluations << " iterations cold, " << nearEvaluations << " from nearby; the "
+                << "largest difference in r " << worst << " of |r| + p");
+    CHECK(solves > 4000);
+    CHECK(worst < 1e-14);
+    CHECK(nearEvaluations <= solves + solves / 100);  // one evaluation, but for one in a hundred
+    CHECK(nearEvaluations < coldEvaluations);
+}
+
 TEST_CASE("the coupled P x P contact solve converges on a dense coupling")
 {
     std::mt19937 rng(5);
