@@ -46,6 +46,7 @@ void ContactSystem::setLaw(int j, const ContactLaw& law)
 {
     points_[size_t(j)].law = law;
     trial_.point = -1;  // a trial of the old law
+    lastAlone_.point = -1;
     if (series_[size_t(j)].exponent != law.exponent)
     {
         series_[size_t(j)] = dividedSeries(law.exponent);  // no allocation: a fixed-size table
@@ -57,6 +58,7 @@ void ContactSystem::setLaw(int j, const ContactLaw& law)
 void ContactSystem::setCoupling(const Eigen::MatrixXd& couplingA)
 {
     trial_.point = -1;  // a trial of the old coupling
+    lastAlone_.point = -1;
     if (diagonal_)
         for (Eigen::Index j = 0; j < A_.rows(); ++j)
             A_(j, j) = couplingA(j, j);
@@ -71,6 +73,7 @@ void ContactSystem::reset()
     std::fill(known_.begin(), known_.end(), std::array<KnownPower, 2>{});
     std::fill(anchors_.begin(), anchors_.end(), KnownPower{});
     trial_.point = -1;
+    lastAlone_.point = -1;
 }
 
 int ContactSystem::solve(const double* s, const double* b, double* r, double* slope)
@@ -86,27 +89,28 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
     return iterations;
 }
 
-ScalarContactSolution ContactSystem::solvePoint(int j, double s, double b) const
-{
-    return solveScalarContact(points_[size_t(j)].law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1]);
-}
-
 ScalarContactSolution ContactSystem::solveAlone(int j, double s, double b) const
 {
-    const KnownPower& known = known_[size_t(j)][1];
-    const ContactLaw& law = points_[size_t(j)].law;
-    const ScalarContactSolution& last = trial_.solution;
-    NearbyRoot nearby;
-    if (trial_.point == j && trial_.s == s && trial_.known == known && last.slope != 0.0 && last.r < s)
-    {
-        // The same equation at another b (the caller's next trial): from its last root, along its slope.
-        const double drdb = 1.0 / (1.0 + A_(j, j) * chordSlopeDerivative(law, s, last));
-        nearby = {last.r + (b - trial_.b) * drdb, last.penetration};
-    }
-    trial_ = {j, s, b, known,
-              solveScalarContact(law, s, b, A_(j, j), &series_[size_t(j)], &known,
-                                 std::isfinite(nearby.r) ? &nearby : nullptr)};
+    trial_ = {j, s, b, known_[size_t(j)][1], solveNearLast(j, s, b)};
     return trial_.solution;
+}
+
+// Point j's equation alone; where it was solved last in this step with the same s (the caller's
+// trials, or a solve at another bridge), from that root moved along its slope.
+ScalarContactSolution ContactSystem::solveNearLast(int j, double s, double b) const
+{
+    const ContactLaw& law = points_[size_t(j)].law;
+    const ScalarContactSolution& last = lastAlone_.solution;
+    NearbyRoot nearby;
+    if (lastAlone_.point == j && lastAlone_.s == s && last.slope != 0.0 && last.r < s)
+    {
+        const double drdb = 1.0 / (1.0 + A_(j, j) * chordSlopeDerivative(law, s, last));
+        nearby = {last.r + (b - lastAlone_.b) * drdb, last.penetration};
+    }
+    lastAlone_ = {j, s, b,
+                  solveScalarContact(law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1],
+                                     std::isfinite(nearby.r) ? &nearby : nullptr)};
+    return lastAlone_.solution;
 }
 
 int ContactSystem::solveListed(const double* s, const double* b, double* r, double* slope, const int* points, int count)
@@ -197,10 +201,10 @@ void ContactSystem::record(Eigen::Index j, double rj, double slopej, const Known
 bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope,
                                      int& iterations)
 {
-    // Where the caller's trial posed this very equation, its solution: what solvePoint would give.
+    // Where the caller's trial posed this very equation, its solution: what solveNearLast would give.
     const bool tried =
         trial_.point == a && trial_.s == s[a] && trial_.b == b[a] && trial_.known == known_[size_t(a)][1];
-    const auto sol = tried ? trial_.solution : solvePoint(int(a), s[a], b[a]);
+    const auto sol = tried ? trial_.solution : solveNearLast(int(a), s[a], b[a]);
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];

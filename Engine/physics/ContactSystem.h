@@ -55,6 +55,9 @@ public:
     // whether the last solve() did.
     ScalarContactSolution solveAlone(int j, double s, double b) const;
     bool tookTrial() const { return tookTrial_; }
+    // RT, at each step's start: a point's scalar equation is started from its last root only within
+    // the step (solveAlone, and a solve with one point pressing), where s is the same.
+    void beginStep() { lastAlone_.point = -1; }
 
     // RT: solveWithBilateral's equations for the bilateral point t and the point a that can touch (-1:
     // none), every other point's force 0, nothing kept (a caller's trial, as solveAlone): G_t, G_a, and
@@ -75,7 +78,7 @@ public:
 
 private:
     int solveListed(const double* s, const double* b, double* r, double* slope, const int* points, int count);
-    ScalarContactSolution solvePoint(int j, double s, double b) const;  // j's scalar equation alone
+    ScalarContactSolution solveNearLast(int j, double s, double b) const;  // j's scalar equation alone
     int solveDecoupled(const double* s, const double* b, double* r, double* slope);
     bool solveOnePresser(const double* s, const double* b, double* r, double* slope, int& iterations);
     bool solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope, int& iterations);
@@ -106,6 +109,14 @@ private:
         ScalarContactSolution solution;
     };
     mutable AloneTrial trial_;
+    // The last scalar equation of one point solved alone in this step (solveNearLast).
+    struct LastAlone
+    {
+        int point = -1;
+        double s = 0.0, b = 0.0;
+        ScalarContactSolution solution;
+    };
+    mutable LastAlone lastAlone_;
     bool tookTrial_ = false;
     std::vector<double> sAlpha_;       // [s_j]_+^alpha of the coupled solve in progress
     std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)

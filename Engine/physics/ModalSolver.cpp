@@ -23,6 +23,7 @@ void ModalSolver::step()
 
 bool ModalSolver::beginStep(ScalarContactRequest& request)
 {
+    system_.beginStep();
     if (!state_.pairable() || externalForce_ != 0.0)
     {
         state_.toSingle();
@@ -63,6 +64,7 @@ void ModalSolver::predictOnMovingBridge()
 {
     lastIterations_ = 0;
     trialBefore_ = trialMove_ = std::numeric_limits<double>::quiet_NaN();  // no trial of this step yet
+    system_.beginStep();
     pairedOnBridge_ = state_.pairable() && externalForce_ == 0.0;
     if (pairedOnBridge_)
     {
@@ -566,6 +568,7 @@ int ModalSolver::solveSplines()
 
 void ModalSolver::stepSingle()
 {
+    system_.beginStep();
     if (reach_.enabled())
     {
         if (externalForce_ != 0.0)
