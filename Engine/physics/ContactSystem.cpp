@@ -201,7 +201,7 @@ void ContactSystem::record(Eigen::Index j, double rj, double slopej, const Known
 bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const double* b, double* r, double* slope,
                                      int& iterations)
 {
-    // Where the caller's trial posed this very equation, its solution: what solveNearLast would give.
+    // Where the caller's trial posed this very equation, its solution, kept: not solved again.
     const bool tried =
         trial_.point == a && trial_.s == s[a] && trial_.b == b[a] && trial_.known == known_[size_t(a)][1];
     const auto sol = tried ? trial_.solution : solveNearLast(int(a), s[a], b[a]);
