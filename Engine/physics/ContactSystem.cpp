@@ -39,14 +39,13 @@ void ContactSystem::prepare(const std::vector<ContactPoint>& points, Eigen::Matr
     olderR_.assign(points_.size(), 0.0);
     previousContact_.assign(points_.size(), 0);
     olderContact_.assign(points_.size(), 0);
-    trial_.point = -1;
+    lastAlone_.point = -1;
 }
 
 void ContactSystem::setLaw(int j, const ContactLaw& law)
 {
     points_[size_t(j)].law = law;
-    trial_.point = -1;  // a trial of the old law
-    lastAlone_.point = -1;
+    lastAlone_.point = -1;  // an equation (and a trial) of the old law
     if (series_[size_t(j)].exponent != law.exponent)
     {
         series_[size_t(j)] = dividedSeries(law.exponent);  // no allocation: a fixed-size table
@@ -57,8 +56,7 @@ void ContactSystem::setLaw(int j, const ContactLaw& law)
 
 void ContactSystem::setCoupling(const Eigen::MatrixXd& couplingA)
 {
-    trial_.point = -1;  // a trial of the old coupling
-    lastAlone_.point = -1;
+    lastAlone_.point = -1;  // an equation (and a trial) of the old coupling
     if (diagonal_)
         for (Eigen::Index j = 0; j < A_.rows(); ++j)
             A_(j, j) = couplingA(j, j);
@@ -72,7 +70,6 @@ void ContactSystem::reset()
     std::fill(olderContact_.begin(), olderContact_.end(), 0);
     std::fill(known_.begin(), known_.end(), std::array<KnownPower, 2>{});
     std::fill(anchors_.begin(), anchors_.end(), KnownPower{});
-    trial_.point = -1;
     lastAlone_.point = -1;
 }
 
@@ -85,14 +82,15 @@ int ContactSystem::solve(const double* s, const double* b, double* r, double* sl
 {
     tookTrial_ = false;
     const int iterations = solveListed(s, b, r, slope, points, count);
-    trial_.point = -1;  // good for one solve
+    lastAlone_.trial = false;  // good for one solve
     return iterations;
 }
 
 ScalarContactSolution ContactSystem::solveAlone(int j, double s, double b) const
 {
-    trial_ = {j, s, b, known_[size_t(j)][1], solveNearLast(j, s, b)};
-    return trial_.solution;
+    const ScalarContactSolution solution = solveNearLast(j, s, b);
+    lastAlone_.trial = true;
+    return solution;
 }
 
 // Point j's equation alone; where it was solved last in this step with the same s (the caller's
@@ -107,8 +105,9 @@ ScalarContactSolution ContactSystem::solveNearLast(int j, double s, double b) co
         const double drdb = 1.0 / (1.0 + A_(j, j) * chordSlopeDerivative(law, s, last));
         nearby = {last.r + (b - lastAlone_.b) * drdb, last.penetration};
     }
-    lastAlone_ = {j, s, b,
-                  solveScalarContact(law, s, b, A_(j, j), &series_[size_t(j)], &known_[size_t(j)][1],
+    const KnownPower& known = known_[size_t(j)][1];
+    lastAlone_ = {j, s, b, known,
+                  solveScalarContact(law, s, b, A_(j, j), &series_[size_t(j)], &known,
                                      std::isfinite(nearby.r) ? &nearby : nullptr)};
     return lastAlone_.solution;
 }
@@ -202,9 +201,9 @@ bool ContactSystem::solveOneTouching(Eigen::Index a, const double* s, const doub
                                      int& iterations)
 {
     // Where the caller's trial posed this very equation, its solution, kept: not solved again.
-    const bool tried =
-        trial_.point == a && trial_.s == s[a] && trial_.b == b[a] && trial_.known == known_[size_t(a)][1];
-    const auto sol = tried ? trial_.solution : solveNearLast(int(a), s[a], b[a]);
+    const bool tried = lastAlone_.trial && lastAlone_.point == a && lastAlone_.s == s[a] && lastAlone_.b == b[a]
+                       && lastAlone_.known == known_[size_t(a)][1];
+    const auto sol = tried ? lastAlone_.solution : solveNearLast(int(a), s[a], b[a]);
     for (int k = 0; k < listedCount_; ++k)
     {
         const int i = listed_[k];

@@ -99,24 +99,20 @@ private:
     // Per point, the penetration powers of the last two scalar solves: [0] the latest. The older
     // one's p is this step's s (ContactLaw.h, KnownPower).
     std::vector<std::array<KnownPower, 2>> known_;
-    // solveAlone's last equation and solution, until the next solve() (point -1: none). A new law,
-    // coupling or history forgets it.
-    struct AloneTrial
+    // The last scalar equation of one point solved alone (solveNearLast), with the known powers it was
+    // posed with, and its solution (point -1: none). Within the step it starts the point's next
+    // equation with the same s. `trial`: it was a caller's trial (solveAlone), which the next solve()
+    // takes where it poses this very equation; good for one solve. A new step, law, coupling or
+    // history forgets it.
+    struct AloneSolve
     {
         int point = -1;
         double s = 0.0, b = 0.0;
         KnownPower known;
         ScalarContactSolution solution;
+        bool trial = false;
     };
-    mutable AloneTrial trial_;
-    // The last scalar equation of one point solved alone in this step (solveNearLast).
-    struct LastAlone
-    {
-        int point = -1;
-        double s = 0.0, b = 0.0;
-        ScalarContactSolution solution;
-    };
-    mutable LastAlone lastAlone_;
+    mutable AloneSolve lastAlone_;
     bool tookTrial_ = false;
     std::vector<double> sAlpha_;       // [s_j]_+^alpha of the coupled solve in progress
     std::vector<KnownPower> anchors_;  // per point, the coupled solve's latest pow (ContactLaw.h)
