@@ -137,6 +137,40 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
     return force;
 }
 
+// F = sum_j w_j G_j(r_j) over the pressing points P, r solving r + A G(r) = b: dr/dmove = -(I + A_PP D)^-1 1
+// with D = diag(G'_j), so dF/dmove = -w^T D (I + A_PP D)^-1 1.
+double ModalSolver::solvedForceSlope() const
+{
+    const int n = static_cast<int>(pressing_.size());
+    if (n == 0)
+        return 0.0;
+    if (n > kMostSlopePoints || (n > 1 && method_ != ContactMethod::energyConserving))
+        return std::numeric_limits<double>::quiet_NaN();
+    using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMostSlopePoints, kMostSlopePoints>;
+    using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMostSlopePoints, 1>;
+    Small J(n, n);
+    SmallVector wD(n);
+    const auto& A = system_.coupling();
+    for (int l = 0; l < n; ++l)
+    {
+        const int j = pressing_[size_t(l)];
+        ScalarContactSolution at;
+        at.r = r_[j];
+        at.slope = slope_[j];
+        const double g = method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
+                             ? splines_[size_t(j)].solve(s_[j], b_[j], A(j, j)).slopeDerivative
+                             : chordSlopeDerivative(contacts_[j].law, s_[j], at);
+        if (!std::isfinite(g))
+            return std::numeric_limits<double>::quiet_NaN();
+        wD[l] = contacts_[j].weight * g;
+        for (int m = 0; m < n; ++m)
+            J(m, l) = A(pressing_[size_t(m)], j) * g + (m == l ? 1.0 : 0.0);
+    }
+    if (n == 1)
+        return -wD[0] / J(0, 0);
+    return -wD.dot(J.partialPivLu().solve(SmallVector::Ones(n)));
+}
+
 double ModalSolver::trialOnMovingBridge(double before, double move, double* slope) const
 {
     int j = 0;  // a string's one point: its scalar equation is its solve, the trial exact

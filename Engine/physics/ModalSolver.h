@@ -140,6 +140,12 @@ public:
     // points and springs that no trial poses (two springs, or a spring solved point by point).
     // `slope` (optional): the trial's dF/dmove (chordSlopeDerivative).
     double trialOnMovingBridge(double before, double move, double* slope = nullptr) const;
+    // RT, after solveOnMovingBridge: dF/dmove at its solution with the same points pressing (the
+    // implicit function's: r + A G(r) = b with b falling by one per metre the bridge moves), for the
+    // caller's Newton step. NaN where G' has no closed form (the quadratic spline's several points)
+    // or more than kMostSlopePoints press.
+    double solvedForceSlope() const;
+    static constexpr int kMostSlopePoints = 8;
     // A string held by one spring and nothing else (a sympathetic string on its bridge), handed to a
     // caller that steps it elsewhere (LinearStringBank) and back. Its step, single form, is
     //   q~ = a q^n - e q^{n-1},  u~ = phi . q~,

@@ -235,52 +235,103 @@ double secant(ResidualOf&& residual, Tolerance&& tolerance, double w0, Residual 
         w1 -= r1.value / slope;
     }
 }
-
-// The root of a residual from w: the secant first on trials (`onTrials`: NaN where a string has none,
-// then skipped), then on solves (`onSolves`) from the trials' answer, each at most 16 evaluations,
-// counted into `trials` and `solves`. The strings keep the solve of the W returned.
-template <typename OnTrials, typename OnSolves, typename Tolerance>
-double secantOnTrialsThenSolves(OnTrials&& onTrials, OnSolves&& onSolves, Tolerance&& tolerance, double w,
-                                double& slope, int& trials, int& solves)
-{
-    constexpr int kMostEvaluations = 16;
-    if (const Residual first = onTrials(w); std::isfinite(first.value))
-    {
-        int evaluations = 1;
-        w = secant(onTrials, tolerance, w, first, slope, evaluations, kMostEvaluations);
-        trials += evaluations;
-    }
-    int evaluations = 1;
-    w = secant(onSolves, tolerance, w, onSolves(w), slope, evaluations, kMostEvaluations);
-    solves += evaluations;
-    return w;
-}
 }  // namespace
 
-// W^{n+1}: the secant on R(W) = W - w~ - beta F(W), from the W that solves it with the played
-// strings' force as the last step left it (and the linear strings' affine force), and the last
-// step's slope R'. First on trials (each played string's last lone presser alone, no solve), then
-// on solves from the trials' answer: most steps press where the last one did, and one solve
-// confirms it. Stops when the residual is rounding's share of the bridge's motion; the played
-// strings keep the solve of the last W, and playedForce_ is theirs.
+// The root W of R(W) = residualOf(W, F(W), F'(W)), F the summed force of strings [0, n) with the
+// bridge at W (those before `split` first, then the rest: played and part): the secant from w, each
+// string answering at each W by its trial where it has one (ModalSolver::trialOnMovingBridge: its
+// last lone presser alone, nothing solved) and by its solve where it has none, or where its solve
+// once disagreed with its trial. Then the strings still on trials are solved at the W found: most
+// often each solve is its trial kept, and W stands; where one is not, that string is solved from
+// then on and the secant goes on. At most 16 evaluations, counted into trials_, and the rounds of
+// solves that confirm into evaluations_. The strings keep the solve of the W returned; `played` and
+// `part` are their forces there, and forces_ each one's.
+template <typename ResidualOf, typename Tolerance>
+double SharedBody::secantOnStrings(ModalSolver* const* strings, int n, int split, double before, double w,
+                                   ResidualOf&& residualOf, Tolerance&& tolerance, double& slope, double& played,
+                                   double& part)
+{
+    constexpr int kMostEvaluations = 16;
+    const int tracked = std::min(n, BodyReach::kMostStrings);  // strings beyond are solved at every evaluation
+    std::fill_n(solvedNow_.begin(), tracked, char(0));
+    auto at = [&](double x) {
+        played = part = 0.0;
+        double dForce = 0.0;
+        for (int i = 0; i < n; ++i)
+        {
+            double f = std::numeric_limits<double>::quiet_NaN(), d = 0.0;
+            if (i < tracked && !solvedNow_[size_t(i)])
+            {
+                f = strings[i]->trialOnMovingBridge(before, x - before, &d);
+                solvedNow_[size_t(i)] = std::isnan(f);
+                trialForces_[size_t(i)] = f;
+            }
+            if (std::isnan(f))
+            {
+                f = strings[i]->solveOnMovingBridge(before, x - before);
+                d = strings[i]->solvedForceSlope();
+                if (i < tracked)
+                    forces_[size_t(i)] = f;
+            }
+            (i < split ? played : part) += f;
+            dForce += d;
+        }
+        return residualOf(x, played + part, dForce);
+    };
+    int evaluations = 1;
+    Residual r = at(w);
+    while (true)
+    {
+        w = secant(at, tolerance, w, r, slope, evaluations, kMostEvaluations);
+        bool confirmed = true;
+        for (int i = 0; i < tracked; ++i)
+            if (!solvedNow_[size_t(i)])
+            {
+                const double f = strings[i]->solveOnMovingBridge(before, w - before);
+                forces_[size_t(i)] = f;
+                if (f != trialForces_[size_t(i)])
+                {
+                    (i < split ? played : part) += f - trialForces_[size_t(i)];
+                    solvedNow_[size_t(i)] = 1;
+                    confirmed = false;
+                }
+            }
+        ++evaluations_;
+        if (confirmed || evaluations >= kMostEvaluations)
+            break;
+        r = residualOf(w, played + part, std::numeric_limits<double>::quiet_NaN());
+        if (std::abs(r.value) <= tolerance(w))
+            break;
+    }
+    trials_ += evaluations;
+    return w;
+}
+
+// W^{n+1}: the root of R(W) = W - w~ - beta F(W) (secantOnStrings), from the W that solves it with
+// the played strings' force as the last step left it (and the linear strings' affine force), and
+// the last step's slope R'. Most steps press where the last one did: the trials find W and one solve
+// of each string confirms it. Stops when the residual is rounding's share of the bridge's motion;
+// the played strings keep the solve of the last W, and playedForce_ is theirs.
 double SharedBody::solveBridge(ModalSolver* const* strings, double before, double predicted)
 {
     auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(predicted - before)) + 1e-30; };
-    if (linearFrom_ < count_)
+    const bool linear = linearFrom_ < count_;
+    if (linear)
         fitLinear(strings, before, predicted + beta_ * force_);
-    auto linear = [&](double w) { return linearFrom_ < count_ ? linearForce_ + linearSlope_ * (w - linearAt_) : 0.0; };
     const double w =
         (predicted + beta_ * (playedForce_ + linearForce_ - linearSlope_ * linearAt_)) / (1.0 - beta_ * linearSlope_);
-    auto trialResidual = [&](double x) {
-        double dForce = 0.0;
-        const double force = trialForce(strings, 0, linearFrom_, before, x, &dForce);
-        return Residual{x - predicted - beta_ * (force + linear(x)),
-                        1.0 - beta_ * (dForce + (linearFrom_ < count_ ? linearSlope_ : 0.0))};
+    auto residualOf = [&](double x, double force, double dForce) {
+        const double affine = linear ? linearForce_ + linearSlope_ * (x - linearAt_) : 0.0;
+        return Residual{x - predicted - beta_ * (force + affine),
+                        1.0 - beta_ * (dForce + (linear ? linearSlope_ : 0.0))};
     };
-    auto residual = [&](double x) {
-        return Residual{x - predicted - beta_ * (evaluate(strings, before, x) + linear(x))};
-    };
-    return secantOnTrialsThenSolves(trialResidual, residual, tolerance, w, slope_, trials_, evaluations_);
+    double part = 0.0;
+    const double bridge =
+        secantOnStrings(strings, linearFrom_, split_, before, w, residualOf, tolerance, slope_, playedForce_, part);
+    if (linearFrom_ > split_)
+        partForce_ = part;
+    playedForce_ += part;
+    return bridge;
 }
 
 // The delayed link (setDelayedLink). Each line, of impedance R and one step's delay, carries from each
@@ -327,24 +378,18 @@ void SharedBody::stepLinked(ModalSolver* const* strings, int count, double predi
 }
 
 // A string's node at n+1, w = w^{n-1} + (2 dt / R) (a + F_s(w)), a the wave arriving: the secant on
-// trials, then on solves, as solveBridge for one string. Returns F_s there; the string keeps that solve.
+// the string's trial where it has one, else its solve (secantOnStrings), as solveBridge for one
+// string. Returns F_s there; the string keeps that solve.
 double SharedBody::solveNode(ModalSolver& string, double before, double arriving, double& node)
 {
     const double k = 2.0 * dt_ / linkImpedance_;
     auto tolerance = [&](double w) { return 1e-14 * (std::abs(w) + std::abs(k * arriving)) + 1e-30; };
-    auto trialResidual = [&](double x) {
-        double dForce = 0.0;
-        const double force = string.trialOnMovingBridge(before, x - before, &dForce);
+    auto residualOf = [&](double x, double force, double dForce) {
         return Residual{x - before - k * (arriving + force), 1.0 - k * dForce};
     };
-    double force = 0.0;
-    auto residual = [&](double x) {
-        force = string.solveOnMovingBridge(before, x - before);
-        return Residual{x - before - k * (arriving + force)};
-    };
-    double slope = 1.0;
-    node = secantOnTrialsThenSolves(trialResidual, residual, tolerance, before + k * arriving, slope, trials_,
-                                    evaluations_);
+    ModalSolver* strings[1] = {&string};
+    double slope = 1.0, force = 0.0, part = 0.0;
+    node = secantOnStrings(strings, 1, 1, before, before + k * arriving, residualOf, tolerance, slope, force, part);
     return force;
 }
 

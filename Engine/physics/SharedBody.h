@@ -109,8 +109,11 @@ public:
     // Kept again, the copy starts from rest, so until the body's modes have rung out the share misses
     // what the strings after split put in while it rested.
     void keepPart(bool keep);
-    int lastEvaluations() const { return evaluations_; }  // RT: the contact solves of the last step
-    int lastTrials() const { return trials_; }            // RT: its trials (ModalSolver::trialOnMovingBridge)
+    // RT: the last step's rounds of solves at a bridge found (each string still on its trial solved
+    // once: most often that trial, kept), and its evaluations of the bridge's equation (each string
+    // by its trial, ModalSolver::trialOnMovingBridge, or by its solve where it has none).
+    int lastEvaluations() const { return evaluations_; }
+    int lastTrials() const { return trials_; }
     bool atRest() const;                               // RT: every mode below 1e-18 m
     // RT: the body's modes' part of the joined H^{n-1/2} (J); with the strings' energyOnBridge() at
     // bridgeDisplacement() and the one before, the whole. No allocation.
@@ -129,6 +132,9 @@ private:
     double evaluate(ModalSolver* const* strings, double before, double bridge);
     void fitLinear(ModalSolver* const* strings, double before, double at);
     double solveBridge(ModalSolver* const* strings, double before, double predicted);
+    template <typename ResidualOf, typename Tolerance>
+    double secantOnStrings(ModalSolver* const* strings, int n, int split, double before, double w,
+                           ResidualOf&& residualOf, Tolerance&& tolerance, double& slope, double& played, double& part);
     void stepPart(double partForce);
     void finishBody(double predicted, const double* read);
     void stepLinked(ModalSolver* const* strings, int count, double predicted);
@@ -150,6 +156,10 @@ private:
     std::vector<double> kinetic_, potential_;  // per mode, m_k C1 / (2 dt^2) and m_k C2 / 2: its energy's weights
     BodyReach reach_;
     std::array<double, BodyReach::kMostStrings> forces_{};  // each string's force at the last solve (N)
+    // secantOnStrings: each string's trial force at the last evaluation (N), and whether it is solved
+    // at every evaluation for the rest of the step.
+    std::array<double, BodyReach::kMostStrings> trialForces_{};
+    std::array<char, BodyReach::kMostStrings> solvedNow_{};
     bool resolved_ = false;
     std::vector<double> zPart_, zPartPrevious_;  // the copy driven by the strings after split alone
     bool partKept_ = true;
