@@ -93,8 +93,8 @@ TEST_CASE("On a shared body the points out of reach are left out, never touch, a
                                                        << compared << " steps, " << resolved
                                                        << " steps solved again, the first at " << firstResolved);
     CHECK(checks > 1000);
-    CHECK(meanLive < 1.2 * meanAlone);  // measured 19.98 against 17.90 of 23
-    CHECK(highest < 0.0);               // measured -2.1e-4 m
+    CHECK(meanLive < 1.1 * meanAlone);  // measured 18.64 against 17.91 of 23 (19.99 with twice the energy)
+    CHECK(highest < 0.0);               // measured -1.6e-4 m
     // Rounding: the steps solved again take their joining points' u^{n-1} from the prediction (the
     // first at step 3456), and a grazing contact lets rounding grow (BodyTests, "Strings in their
     // own solvers on a shared body"), so the first 7000 steps. Measured 0 (9.3e-12 when the first

@@ -9,7 +9,12 @@ namespace jawari
 
 namespace
 {
-constexpr double kHeadroom = 2.0;  // a budget is this many times the energy at the check; the rise, the highest w
+constexpr double kHeadroom = 2.0;  // a first budget is this many times the energy at the check; the rise, the highest w
+// Once the same strings have run an interval, a budget is the energy at the check with a margin of
+// kGainHeadroom times the most the bridge gave the string over the interval before, and at least
+// kLeastMargin of that energy.
+constexpr double kGainHeadroom = 4.0;
+constexpr double kLeastMargin = 0.05;
 // A string at rest still gets this share of the largest string's energy as its budget: the body
 // wakes it slowly.
 constexpr double kLeastShare = 1e-6;
@@ -45,7 +50,8 @@ void BodyReach::choose(ModalSolver* const* strings, int count, bool oneWay, doub
         pushed = strings[i]->pushed();
     if (pushed)
         return wakeAll(strings, count);
-    bool due = !sameStrings(strings, count) || --stepsToCheck_ <= 0;
+    const bool same = sameStrings(strings, count);
+    bool due = !same || --stepsToCheck_ <= 0;
     for (int i = 0; i < count && !due; ++i)
         due = strings[i]->reachStale();
     if (!due)
@@ -66,15 +72,22 @@ void BodyReach::choose(ModalSolver* const* strings, int count, bool oneWay, doub
     }
     rise_ = kHeadroom * largestBridge_;
     largestBridge_ = 0.0;
+    const bool gainsKnown = same && gainsKnown_;
     for (int i = 0; i < count; ++i)
     {
-        budget_[size_t(i)] = kHeadroom * spent_[size_t(i)] + kLeastShare * largest;
+        const double H = spent_[size_t(i)];
+        const double margin =
+            gainsKnown ? std::max(kGainHeadroom * gained_[size_t(i)], kLeastMargin * H) : (kHeadroom - 1.0) * H;
+        budget_[size_t(i)] = H + margin + kLeastShare * largest;
+        start_[size_t(i)] = H;
+        gained_[size_t(i)] = 0.0;
         strings[i]->refreshReachOnBridge(budget_[size_t(i)], rise_);
         if (strings[i]->livePointCount() == strings[i]->contactCount())
             budget_[size_t(i)] = std::numeric_limits<double>::infinity();  // every point live: nothing to keep
         else
             budgeted_ = true;
     }
+    gainsKnown_ = true;  // from the next check on, if the strings stay
 }
 
 // With every point of every string live, nothing can be out of reach.
@@ -89,7 +102,10 @@ bool BodyReach::withinBudgets(const double* forces, int count, double before, do
         if (spent_[size_t(i)] - forces[i] * halfMove > budget_[size_t(i)])
             return false;
     for (int i = 0; i < count; ++i)
+    {
         spent_[size_t(i)] -= forces[i] * halfMove;
+        gained_[size_t(i)] = std::max(gained_[size_t(i)], spent_[size_t(i)] - start_[size_t(i)]);
+    }
     return true;
 }
 

@@ -9,10 +9,12 @@
 //   -F_i (W - w^{n-1}) / 2  minus its losses,
 // with F_i = sum_j w_j G_j its points' force on the bridge (< 0 while it presses the bridge down)
 // and W, w^{n-1} the bridge's displacement at n+1 and n-1: a bridge that rises under a string
-// pressing on it gives it energy. So at each check every string gets a budget, twice its energy
-// then, and the bridge a rise, twice the highest it rose since the last check (only a rise brings
-// an obstacle nearer); each string's points are chosen for them (ContactReach::refresh). After each step's solve, the work is added to what each
-// string has spent: a string still within its budget with the bridge within its rise cannot have
+// pressing on it gives it energy. So at each check every string gets a budget, its energy then and
+// a margin for what the bridge may give it (from what it gave over the last interval of the same
+// strings; twice the energy at the first check), and the bridge a rise, twice the highest it rose
+// since the last check (only a rise brings an obstacle nearer); each string's points are chosen for
+// them (ContactReach::refresh). After each step's solve, the work is added to what each string has
+// spent: a string still within its budget with the bridge within its rise cannot have
 // reached a point left out (its displacement there is bounded by its energy, which is at most the
 // budget; the obstacle by the rise), so the step, solved without them, is the step with them. A
 // step beyond either is solved again with every point live (SharedBody), and the next step checks
@@ -50,6 +52,8 @@ private:
 
     std::array<const ModalSolver*, kMostStrings> chosenFor_{};
     std::array<double, kMostStrings> spent_{}, budget_{};  // J: each string's energy bound, and its budget
+    std::array<double, kMostStrings> start_{}, gained_{};  // J: its energy at the check, the most it gained since
+    bool gainsKnown_ = false;                              // gained_ covers an interval of the strings chosen for
     double rise_ = 0.0;        // m: how high the bridge may rise for the points chosen
     double largestBridge_ = 0.0;  // m: the highest w since the last check (0 if it only sank)
     int chosenCount_ = -1, stepsToCheck_ = 0;
