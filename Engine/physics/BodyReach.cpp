@@ -60,6 +60,7 @@ void BodyReach::choose(ModalSolver* const* strings, int count, bool oneWay, doub
     budgeted_ = false;
     if (oneWay)
     {
+        gainsKnown_ = false;  // the bridge gives nothing one way: two way starts again from twice the energy
         for (int i = 0; i < count; ++i)
             strings[i]->refreshReachOnBridge(strings[i]->energyOnBridge(0.0, 0.0), 0.0);
         return;
@@ -87,7 +88,7 @@ void BodyReach::choose(ModalSolver* const* strings, int count, bool oneWay, doub
         else
             budgeted_ = true;
     }
-    gainsKnown_ = true;  // from the next check on, if the strings stay
+    gainsKnown_ = budgeted_;  // the steps count the gifts only while some string is budgeted
 }
 
 // With every point of every string live, nothing can be out of reach.
