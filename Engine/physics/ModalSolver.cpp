@@ -137,6 +137,24 @@ double ModalSolver::solveOnMovingBridge(double before, double move)
     return force;
 }
 
+// Point j pressing alone with G' = g at its root: r + k G(r) = b with db/dmove = -1, so
+// dr/dmove = -1 / (1 + k g), and F = w G.
+double ModalSolver::aloneForceSlope(int j, double g) const
+{
+    return -contacts_[size_t(j)].weight * g / (1.0 + system_.coupling()(j, j) * g);
+}
+
+// G'_j at point j's root in the last solve (NaN where it has no closed form).
+double ModalSolver::solvedSlopeDerivative(int j) const
+{
+    if (method_ == ContactMethod::quadraticSpline && !contacts_[size_t(j)].law.bilateral)
+        return splines_[size_t(j)].solve(s_[j], b_[j], system_.coupling()(j, j)).slopeDerivative;
+    ScalarContactSolution at;
+    at.r = r_[j];
+    at.slope = slope_[j];
+    return chordSlopeDerivative(contacts_[size_t(j)].law, s_[j], at);
+}
+
 // F = sum_j w_j G_j(r_j) over the pressing points P, r solving r + A G(r) = b: dr/dmove = -(I + A_PP D)^-1 1
 // with D = diag(G'_j), so dF/dmove = -w^T D (I + A_PP D)^-1 1.
 double ModalSolver::solvedForceSlope() const
@@ -144,7 +162,9 @@ double ModalSolver::solvedForceSlope() const
     const int n = static_cast<int>(pressing_.size());
     if (n == 0)
         return 0.0;
-    if (n > kMostSlopePoints || (n > 1 && method_ != ContactMethod::energyConserving))
+    if (n == 1)
+        return aloneForceSlope(pressing_[0], solvedSlopeDerivative(pressing_[0]));
+    if (n > kMostSlopePoints || method_ != ContactMethod::energyConserving)
         return std::numeric_limits<double>::quiet_NaN();
     using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMostSlopePoints, kMostSlopePoints>;
     using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMostSlopePoints, 1>;
@@ -154,20 +174,13 @@ double ModalSolver::solvedForceSlope() const
     for (int l = 0; l < n; ++l)
     {
         const int j = pressing_[size_t(l)];
-        ScalarContactSolution at;
-        at.r = r_[j];
-        at.slope = slope_[j];
-        const double g = method_ == ContactMethod::quadraticSpline && !contacts_[j].law.bilateral
-                             ? splines_[size_t(j)].solve(s_[j], b_[j], A(j, j)).slopeDerivative
-                             : chordSlopeDerivative(contacts_[j].law, s_[j], at);
+        const double g = solvedSlopeDerivative(j);
         if (!std::isfinite(g))
             return std::numeric_limits<double>::quiet_NaN();
-        wD[l] = contacts_[j].weight * g;
+        wD[l] = contacts_[size_t(j)].weight * g;
         for (int m = 0; m < n; ++m)
             J(m, l) = A(pressing_[size_t(m)], j) * g + (m == l ? 1.0 : 0.0);
     }
-    if (n == 1)
-        return -wD[0] / J(0, 0);
     return -wD.dot(J.partialPivLu().solve(SmallVector::Ones(n)));
 }
 
@@ -193,11 +206,7 @@ double ModalSolver::trialOnMovingBridge(double before, double move, double* slop
     const auto solution =
         loneSpring() ? solveScalarContact(contacts_[0].law, s, b, system_.coupling()(0, 0)) : solvePointAlone(j, s, b);
     if (slope != nullptr)
-    {
-        // r + k G(r) = b with db/dmove = -1: dr/dmove = -1 / (1 + k G'), and F = w G.
-        const double k = system_.coupling()(j, j), g = chordSlopeDerivative(contacts_[j].law, s, solution);
-        *slope = -contacts_[j].weight * g / (1.0 + k * g);
-    }
+        *slope = aloneForceSlope(j, chordSlopeDerivative(contacts_[j].law, s, solution));
     if (P_ == 1)
     {
         trial_ = solution;

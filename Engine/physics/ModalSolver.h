@@ -324,6 +324,8 @@ private:
     // raised by `move` more at n+1 (solveOnMovingBridge).
     double sOnBridge(int j, double before) const;
     double bOnBridge(int j, double move) const;
+    double aloneForceSlope(int j, double g) const;  // dF/dmove of point j pressing alone, G' = g
+    double solvedSlopeDerivative(int j) const;      // G'_j at the last solve's root
     double trialWithSpring(double before, double move, double* slope) const;  // trialOnMovingBridge's
     void findSpringPoint();
     int solveSplines();

@@ -167,8 +167,8 @@ double SharedBody::trialForce(ModalSolver* const* strings, int from, int to, dou
     return force;
 }
 
-// The force at W of the strings solved at every evaluation, solved: playedForce_ (the played
-// strings, and those after split when they are not linear, whose share is partForce_).
+// One way: the strings before linearFrom_ solved with the bridge at W, their force playedForce_ (the
+// played strings, and those after split when they are not linear, whose share is partForce_).
 double SharedBody::evaluate(ModalSolver* const* strings, double before, double bridge)
 {
     playedForce_ = solveForce(strings, 0, split_, before, bridge);
