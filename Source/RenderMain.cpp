@@ -312,6 +312,11 @@ void printSummary(const jawari::Scene& scene, const jawari::RenderResult& result
         jawari::methodName(scene.simulation), st.modes, st.internalRateHz, st.transformPath ? "DST-I" : "projection",
         st.steps, st.cpuSeconds, scene.simulation.durationSeconds / std::max(st.cpuSeconds, 1e-9),
         st.newtonIterationsMax, st.maxPenetrationMetres);
+    if (st.splitSteps > 0)
+        std::printf("split steps: %lld of %lld, %.2f contact points solved per step, %lld engaged afresh, %lld solved "
+                    "again\n",
+                    st.splitSteps, st.steps, double(st.splitEngaged) / double(st.splitSteps), st.splitJoins,
+                    st.splitResolves);
     if (energyFile)
         std::printf("energy log: %s (%zu rows)\n", energyFile->getFullPathName().toRawUTF8(), result.energy.size());
 }

@@ -212,6 +212,72 @@ TEST_CASE("points out of the string's reach never touch, and leaving them out ch
     CHECK(relL2 < 1e-12);       // measured 0: the same arithmetic on the points that touch
 }
 
+TEST_CASE("A step over a thousand modes or more solves only the points its high modes may carry to the bridge "
+          "(EngagedPoints), and its motion is the step's over every live point, bit for bit")
+{
+    // parabola-bridge as the reference's refinement study runs it, a rung down: 1201 modes at 4 MHz,
+    // its bridge sampled every L/8016 (161 points), the 1.5 mm pluck, 4 ms.
+    auto scene = test::scene("parabola-bridge.json");
+    const double L = scene.string.lengthMetres;
+    for (auto& o : scene.obstacles)
+        if (o.isDistributed())
+            o.spacing = L / 8016.0;
+    const int M = 1201;
+    auto config =
+        stringSolverConfig(scene.string, scene.obstacles, M, 4e6, scene.pickup.position, PickupQuantity::displacement);
+    const int P = static_cast<int>(config.contacts.size());
+    REQUIRE(P == 161);
+    ModalSolver split(config);
+    config.splitModes = false;
+    ModalSolver whole(config);
+    const auto pluck = pluckModalShape(L, M, scene.excitation.position, scene.excitation.amplitude);
+    split.setInitialDisplacement(pluck);
+    whole.setInitialDisplacement(pluck);
+
+    std::vector<double> shapes(size_t(P) * M);
+    for (int j = 0; j < P; ++j)
+        for (int p = 0; p < M; ++p)
+            shapes[size_t(j) * M + p] = modeShape(L, p + 1, config.contacts[j].position);
+    const long steps = 16000;
+    long pressingSteps = 0, leftOutChecks = 0;
+    double worstLeftOut = -1.0, difference = 0.0, norm = 0.0;
+    for (long n = 0; n < steps; ++n)
+    {
+        split.step();
+        whole.step();
+        difference += std::pow(split.pickup() - whole.pickup(), 2);
+        norm += std::pow(whole.pickup(), 2);
+        pressingSteps += whole.lastMaxPenetration() > 0.0;
+        if (n % 32 == 0)
+        {
+            // Where the live points it left out are, from the whole modal state: off their obstacle.
+            const auto q = split.modalState();
+            for (int j = 0; j < P; ++j)
+                if (split.pointLive(j) && !split.pointSolved(j))
+                {
+                    double uj = 0.0;
+                    for (int p = 0; p < M; ++p)
+                        uj += shapes[size_t(j) * M + p] * q[size_t(p)];
+                    worstLeftOut = std::max(worstLeftOut, config.contacts[j].height - uj);
+                    ++leftOutChecks;
+                }
+        }
+    }
+    const auto& counters = split.splitCounters();
+    const double solvedPerStep = double(counters.engaged) / double(counters.steps);
+    const double relL2 = std::sqrt(difference / norm);
+    INFO("pickup relL2 " << relL2 << ", points solved per step " << solvedPerStep << " of " << P << ", engaged afresh "
+                         << counters.joins << ", solved again " << counters.resolves << ", steps pressing "
+                         << pressingSteps << ", highest penetration of a point left out " << worstLeftOut << " m");
+    CHECK(counters.steps == steps);
+    CHECK(whole.splitCounters().steps == 0);
+    CHECK(pressingSteps > steps / 4);
+    CHECK(relL2 < 1e-12);
+    CHECK(solvedPerStep < 0.15 * P);
+    CHECK(leftOutChecks > 5000);
+    CHECK(worstLeftOut < 0.0);
+}
+
 namespace
 {
 // A bridge on [0, 8 mm] pushing 10 um into the string and DAFx-16's thread beside it at 10 mm

@@ -180,6 +180,11 @@ void run(ModalSolver& solver, const Scene& scene, const BridgeReading& bridge, l
     }
     stats.cpuSeconds += threadCpuSeconds() - start;
     stats.steps += steps;
+    const auto& split = solver.splitCounters();
+    stats.splitSteps = split.steps;
+    stats.splitEngaged = split.engaged;
+    stats.splitJoins = split.joins;
+    stats.splitResolves = split.resolves;
     if (options.progress)
         options.progress(1.0);
 }
@@ -412,6 +417,10 @@ RenderResult renderExtrapolated(const Scene& scene, const RenderOptions& options
     stats.newtonIterationsTotal += low.stats.newtonIterationsTotal;
     stats.newtonIterationsMax = std::max(stats.newtonIterationsMax, low.stats.newtonIterationsMax);
     stats.maxPenetrationMetres = std::max(stats.maxPenetrationMetres, low.stats.maxPenetrationMetres);
+    stats.splitSteps += low.stats.splitSteps;
+    stats.splitEngaged += low.stats.splitEngaged;
+    stats.splitJoins += low.stats.splitJoins;
+    stats.splitResolves += low.stats.splitResolves;
     return result;
 }
 }  // namespace

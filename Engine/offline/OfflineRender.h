@@ -33,6 +33,9 @@ struct RenderStats
     double internalRateHz = 0.0;
     bool transformPath = false;
     double cpuSeconds = 0.0;
+    // The reference's split steps over many modes (EngagedPoints): how many, the points they solved
+    // (summed over them), points engaged afresh and steps solved again; all 0 when none split.
+    long long splitSteps = 0, splitEngaged = 0, splitJoins = 0, splitResolves = 0;
     // At t = 0: the string's energy and the part of it stored in obstacles the initial shape
     // already presses into (large when a scene starts the string inside an obstacle).
     double initialEnergy = 0.0;

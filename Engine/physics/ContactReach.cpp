@@ -11,6 +11,8 @@ void ContactReach::prepare(int points, int modes, bool enabled)
 {
     enabled_ = enabled;
     reach_.assign(size_t(points), std::numeric_limits<double>::infinity());
+    tail_.assign(size_t(points), std::numeric_limits<double>::infinity());
+    radius_ = std::numeric_limits<double>::infinity();
     kappa_.edit().assign(size_t(modes), 0.0);
     live_.assign(size_t(points), 1);
     liveRows_.resize(size_t(points));
@@ -57,6 +59,25 @@ void ContactReach::measure(const std::vector<ExactModeCoefficients>& normal,
         const double spring =
             compliance.active() ? std::max(compliance.diagonal(int(j)), 0.0) : 0.0;
         reach_[j] = std::sqrt(2.0 * sum / mu) + 2.0 * std::sqrt(spring);
+    }
+}
+
+void ContactReach::measureTail(const int* tailModes, int count, const std::vector<double>& shapes, double mu)
+{
+    if (!enabled_)
+        return;
+    const size_t M = kappa_.size();
+    for (size_t j = 0; j < tail_.size(); ++j)
+    {
+        double sum = 0.0;
+        for (int i = 0; i < count; ++i)
+        {
+            const size_t p = size_t(tailModes[i]);
+            const double k = kappa_[p];
+            const double phi = shapes[j * M + p];
+            sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
+        }
+        tail_[j] = std::sqrt(2.0 * sum / mu);
     }
 }
 

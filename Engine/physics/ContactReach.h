@@ -14,6 +14,7 @@
 #include "physics/ResidualCompliance.h"
 #include "physics/StampedVector.h"
 
+#include <limits>
 #include <vector>
 
 namespace jawari
@@ -34,6 +35,15 @@ public:
                  const std::vector<double>& shapes, double dt, double mu, const ResidualCompliance& compliance,
                  const std::vector<ContactPoint>& contacts);
 
+    // RT (no allocation), after measure(): tail_j = sqrt((2/mu) sum_p phi_p(x_j)^2 kappa_p^2) over the
+    // `count` modes `tailModes` alone, so that those modes' share of u_j is at most sqrt(H) tail_j for a
+    // string of energy at most H, and so is their share of the prediction q~ = a q^n - e q^{n-1} (with
+    // q^n, a free step from the pair (q^n, q^{n-1}), whose energy is no more: EngagedPoints).
+    void measureTail(const int* tailModes, int count, const std::vector<double>& shapes, double mu);
+    double tail(int j) const { return tail_[size_t(j)]; }
+    // 1.05 sqrt(H) for the H of the last refresh(): sqrt(H) with refresh()'s spare.
+    double radius() const { return radius_; }
+
     // RT: H may have risen: measure it before the next step.
     void markStale() { stale_ = true; }
     // RT, once per step: whether H is to be measured now (stale, or kCheckSteps steps since).
@@ -52,6 +62,7 @@ public:
         stale_ = false;
         stepsToCheck_ = kCheckSteps;
         const double radius = reachRadius(H);
+        radius_ = radius;
         liveCount_ = 0;
         for (int j = 0; j < static_cast<int>(contacts.size()); ++j)
         {
@@ -94,6 +105,8 @@ private:
 
     bool enabled_ = false;
     std::vector<double> reach_;    // per point, m per sqrt(J)
+    std::vector<double> tail_;     // per point, m per sqrt(J): measureTail()
+    double radius_ = std::numeric_limits<double>::infinity();
     StampedVector<double> kappa_;  // per mode, measure()'s kappa_p
     std::vector<char> live_;       // per point
     std::vector<int> liveRows_;    // the live points, ascending (the first liveCount_ entries)

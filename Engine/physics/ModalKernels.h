@@ -169,6 +169,34 @@ inline void projectRows(const double* __restrict phi, int stride, const int* __r
         u[rows[j]] = sum8(pu[j]);
 }
 
+// projectRows over the modes [from, to) alone, each row's eight partial sums carried in
+// lanes[8 j .. 8 j + 8) for j = rows[k] (zero before the first part): one row's sum split over
+// several passes, each lane taking its terms in the order projectRows does, so that sum8 of the
+// lanes after passes over [0, M) is projectRows' u_j. from and to multiples of 8; any P.
+inline void projectRowsPart(const double* __restrict phi, int stride, const int* __restrict rows, int P,
+                            const double* __restrict x, int from, int to, double* __restrict lanes)
+{
+    for (int first = 0; first < P; first += kMaxFused)
+    {
+        const int count = P - first < kMaxFused ? P - first : kMaxFused;
+        alignas(64) double pu[kMaxFused][8];
+        for (int j = 0; j < count; ++j)
+            for (int k = 0; k < 8; ++k)
+                pu[j][k] = lanes[8 * static_cast<ptrdiff_t>(rows[first + j]) + k];
+        for (int p = from; p < to; p += 8)
+            for (int j = 0; j < count; ++j)
+            {
+                const double* __restrict row = phi + static_cast<ptrdiff_t>(rows[first + j]) * stride + p;
+#pragma omp simd aligned(pu : 64)
+                for (int k = 0; k < 8; ++k)
+                    pu[j][k] += row[k] * x[p + k];
+            }
+        for (int j = 0; j < count; ++j)
+            for (int k = 0; k < 8; ++k)
+                lanes[8 * static_cast<ptrdiff_t>(rows[first + j]) + k] = pu[j][k];
+    }
+}
+
 // Two steps of a one-point string in one pass (ModalSolver's paired path). The state comes as raw
 // predictions with scalar contact corrections still to apply (docs/design.md section 2, with
 // q^{n+1} = q~^{n+1} + c phi):

@@ -74,6 +74,8 @@ void ModalSolver::predictOnMovingBridge()
         return;
     }
     state_.toSingle();
+    if (engaged_.anyOut())
+        engageEveryPoint();  // a split step's points out (never on a body: EngagedPoints)
     if (reach_.liveCount() < P_)
         std::copy(state_.qPrev() + state_.steepFrom(), state_.qPrev() + state_.activeCount(), steepPrevious_.begin());
     predictAtPoints();
@@ -405,7 +407,8 @@ void ModalSolver::projectPointMidStep(int j)
 }
 
 // sum_j w_j (psi_j(u^n) + psi_j(u^{n-1})) / 2 for the points' displacements u at n and n-1 (with
-// `liveOnly`, over the live points: the others are off their obstacle, and their u is not kept).
+// `liveOnly`, over the live points a split step keeps: the others are off their obstacle, and their u
+// is not kept).
 double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev, bool liveOnly, double raise,
                                            double raiseBefore) const
 {
@@ -416,7 +419,7 @@ double ModalSolver::contactPotentialEnergy(const double* u, const double* uPrev,
     };
     double sum = 0.0;
     for (int j = 0; j < P_; ++j)
-        if (!liveOnly || reach_.live(j))
+        if (!liveOnly || (reach_.live(j) && engaged_.engaged(j)))
             sum += contacts_[j].weight * 0.5
                * (psi(j, contacts_[j].height + raise - u[j] - compliance_.delta(j))
                   + psi(j, contacts_[j].height + raiseBefore - uPrev[j] - compliance_.deltaPrev(j)));
@@ -538,7 +541,7 @@ void ModalSolver::displacementAt(const double* shapes, int count, double* out)
 int ModalSolver::solveContacts()
 {
     if (method_ == ContactMethod::energyConserving)
-        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), reach_.liveRows(), reach_.liveCount());
+        return system_.solve(s_.data(), b_.data(), r_.data(), slope_.data(), stepRows(), stepCount());
     // The explicit methods start from the penetration at n.
     for (int j = 0; j < P_; ++j)
         penetration_[j] = contacts_[j].height - uC_[j] - compliance_.delta(j);
@@ -619,31 +622,47 @@ void ModalSolver::stepSingle()
         else if (reach_.checkDue())
             refreshReach();
     }
+    splitStep_ = engaged_.splits(state_.activeCount()) && externalForce_ == 0.0;
+    if (!splitStep_ && engaged_.anyOut())
+        engageEveryPoint();
+    if (splitStep_)  // a point engaged mid-step takes their q^{n-1} from here (projectPointMidStep)
+        std::copy(state_.qPrev() + state_.steepFrom(), state_.qPrev() + state_.activeCount(), steepPrevious_.begin());
     predictAtPoints();
     lastIterations_ = 0;
     pressing_.clear();
     if (P_ > 0)
     {
-        const int* rows = reach_.liveRows();
-        for (int k = 0; k < reach_.liveCount(); ++k)
+        for (int k = 0; k < stepCount(); ++k)
         {
-            const int j = rows[k];
+            const int j = stepRows()[k];
             s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
             b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.restoring(j);
         }
         lastIterations_ = solveContacts();
-        for (int k = 0; k < reach_.liveCount(); ++k)
-            if (slope_[rows[k]] != 0.0)
-                pressing_.push_back(rows[k]);
+        while (splitStep_ && engageReached())
+        {
+            ++engaged_.counters.resolves;
+            lastIterations_ += solveContacts();
+        }
+        for (int k = 0; k < stepCount(); ++k)
+            if (slope_[stepRows()[k]] != 0.0)
+                pressing_.push_back(stepRows()[k]);
     }
     if (!pressing_.empty())
         applyContactForces();
     endSingleStep();
+    if (splitStep_)
+    {
+        ++engaged_.counters.steps;
+        engaged_.counters.engaged += engaged_.count();
+    }
+    splitStep_ = false;
 }
 
 void ModalSolver::measureReach()
 {
     reach_.measure(coeffs_, coeffsReleased_, shapes_, dt_, mu_, compliance_, contacts_);
+    measureTail();
 }
 
 // H^{n-1/2} measured: a point that joins gets its u^n and u^{n-1}; one left out, no force.
@@ -651,7 +670,15 @@ void ModalSolver::refreshReach()
 {
     const double H = stringEnergy() + obstacleEnergy() + compliance_.energy();
     reach_.refresh(
-        H, contacts_, [this](int j) { projectPoint(j); }, [this](int j) { slope_[size_t(j)] = 0.0; });
+        H, contacts_,
+        [this](int j) {
+            projectPoint(j);
+            engaged_.engage(j);
+        },
+        [this](int j) {
+            slope_[size_t(j)] = 0.0;
+            engaged_.engage(j);  // out of reach: not the split's to keep
+        });
 }
 
 void ModalSolver::wakeAll()
@@ -676,7 +703,7 @@ void ModalSolver::predictAtPoints()
     // force, which joins q~ after it), the rest kMaxFused at a time, each sum in the same order.
     const int live = reach_.liveCount();
     const int* rows = reach_.liveRows();
-    const int fused = transform_ || externalForce_ != 0.0 ? 0 : std::min(live, kernels::kMaxFused);
+    const int fused = transform_ || externalForce_ != 0.0 || splitStep_ ? 0 : std::min(live, kernels::kMaxFused);
     auto& [first, second] = pickups_;
     if (fused > 0)
         first.predicted = kernels::predictProject(state_.a(), state_.e(), state_.q(), next, state_.h(), state_.h2(),
@@ -695,6 +722,11 @@ void ModalSolver::predictAtPoints()
     if (transform_)
     {
         transform_->sample(next, uTilde_.data());
+        return;
+    }
+    if (splitStep_)
+    {
+        predictSplit();
         return;
     }
     for (int k = fused; k < live; k += kernels::kMaxFused)
@@ -717,8 +749,8 @@ void ModalSolver::applyContactForces()
         for (int i : pressing_)
             kernels::axpy(-forceScale_ * contacts_[i].weight * slope_[i], state_.phi(i), next, state_.paddedCount());
     const auto& A = stringCoupling_;
-    const int* rows = reach_.liveRows();
-    for (int k = 0; k < reach_.liveCount(); ++k)
+    const int* rows = stepRows();
+    for (int k = 0; k < stepCount(); ++k)
     {
         const int j = rows[k];
         double Af = 0.0;
@@ -737,8 +769,8 @@ void ModalSolver::endSingleStep()
     if (P_ > 0)
         compliance_.advance(slope_.data());
     double deepest = -std::numeric_limits<double>::infinity();  // a local: the stores below may alias a member
-    const int* rows = reach_.liveRows();
-    for (int k = 0; k < reach_.liveCount(); ++k)
+    const int* rows = stepRows();
+    for (int k = 0; k < stepCount(); ++k)
     {
         const int j = rows[k];
         const double u = uTilde_[j];

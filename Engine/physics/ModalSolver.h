@@ -21,6 +21,7 @@
 #include "physics/ContactReach.h"
 #include "physics/ContactSpline.h"
 #include "physics/ContactSystem.h"
+#include "physics/EngagedPoints.h"
 #include "physics/ExactOscillator.h"
 #include "physics/GridTransform.h"
 #include "physics/ModalKernels.h"
@@ -86,6 +87,10 @@ struct ModalSolverConfig
     // Leave the contact points the string cannot reach out of the step (ContactReach);
     // off: every point projected and solved every step (the same motion to rounding, at more cost).
     bool leaveOutOfReach = true;
+    // Of those, project in full and solve only the points that the high modes may carry to their
+    // obstacle, on a step over many modes (EngagedPoints); off: every live point (the same motion, a
+    // comparison).
+    bool splitModes = true;
 };
 
 class ModalSolver
@@ -261,7 +266,11 @@ public:
     bool leavesOutOfReach() const { return reach_.enabled(); }
     // Points the contact solve takes this step: those within the string's reach (ContactReach).
     int livePointCount() const { return reach_.liveCount(); }
+    // Over the run: the split steps (EngagedPoints) and what they solved.
+    const EngagedPoints::Counters& splitCounters() const { return engaged_.counters; }
     bool pointLive(int j) const { return reach_.live(j); }
+    // Whether the last step solved point j: live, and engaged on a split step (EngagedPoints).
+    bool pointSolved(int j) const { return reach_.live(j) && engaged_.engaged(j); }
     bool usesTransform() const { return transform_ != nullptr; }
     double timeStep() const { return dt_; }
     double linearDensity() const { return mu_; }
@@ -339,6 +348,15 @@ private:
     void measureReach();   // RT: ContactReach::measure() with the solver's tables
     void refreshReach();   // RT: H measured, the live points chosen afresh
     void wakeAll();        // RT: every point live
+    // The split step over many modes (EngagedPoints, ModalSolverSplit.cpp).
+    void measureTail();         // RT: the high modes' reach per point, after the active modes or kappa changed
+    void engageEveryPoint();    // RT, before the prediction: every live point's u^n and u^{n-1} afresh
+    void predictSplit();        // the engaged points chosen, their predictions completed
+    bool engageReached();       // after a solve: the others that the forces may bring to their obstacle
+    void engageMidStep(int j);  // point j engaged after the prediction
+    // The rows the step solves: the engaged ones on a split step, else the live ones.
+    const int* stepRows() const { return splitStep_ ? engaged_.rows() : reach_.liveRows(); }
+    int stepCount() const { return splitStep_ ? engaged_.count() : reach_.liveCount(); }
     void projectPoint(int j);  // RT: point j's u^n and u^{n-1} from the state
     void projectPointMidStep(int j);  // RT: the same and u~, after the prediction
     PickupReadout::Forces pickupForces() const { return {shapes_, excitationShape_, contacts_, forceScale_, coeffs_}; }
@@ -390,6 +408,8 @@ private:
     bool lastSolveWasTrial_ = false;
     double lastPenetration_ = 0.0;
     ContactReach reach_;         // the points the step takes
+    EngagedPoints engaged_;      // of those, the ones a split step solves
+    bool splitStep_ = false;     // this step splits its modes (EngagedPoints)
     // The update q^{n+1} = q~ + (dt^2/mu) Phi^T W f, f = -G(r): from the points with a force.
     std::vector<int> pressing_;
     int springPoint_ = -1;  // the one bilateral point (energy-conserving, coupled), else -1: findSpringPoint()

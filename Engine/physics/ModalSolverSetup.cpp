@@ -4,6 +4,7 @@
 
 #include "physics/ModalKernels.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -42,6 +43,9 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
     reach_.prepare(P_, M_,
                    config.leaveOutOfReach && !transform_ && method_ == ContactMethod::energyConserving && P_ >= 2
                        && !system_.isDiagonal());
+    engaged_.prepare(P_, config.splitModes && reach_.enabled() && !compliance_.active() && P_ >= 32
+                             && std::none_of(contacts_.begin(), contacts_.end(),
+                                             [](const ContactPoint& c) { return c.law.bilateral; }));
     measureReach();
     if (transform_)
     {
@@ -179,6 +183,7 @@ void ModalSolver::setState(const std::vector<double>& current, const std::vector
     state_.compact(coupled_, current, previous, excitationShape_, shapes_, P_, transform_ != nullptr,
                    !transform_ && P_ <= 1);
     state_.fillTables(coeffs_, coeffsReleased_, pickups_[0].weights(), pickups_[1].weights());
+    measureTail();  // over the active modes
     restartFromModes();
 }
 
@@ -189,6 +194,7 @@ void ModalSolver::restartFromModes()
     system_.reset();
     compliance_.reset();
     wakeAll();
+    engaged_.engageAll();
     projectActive(state_.q(), uC_.data());
     projectActive(state_.qPrev(), uCPrev_.data());
     for (int k = 0; k < 2; ++k)
@@ -236,6 +242,7 @@ void ModalSolver::resetToRest()
     std::fill(uC_.begin(), uC_.end(), 0.0);
     std::fill(uCPrev_.begin(), uCPrev_.end(), 0.0);
     wakeAll();
+    engaged_.engageAll();
     compliance_.reset();
     quadratised_.reset();
     for (auto& pickup : pickups_)

@@ -124,6 +124,7 @@ public:
     // block, at most paddedCount(). The kernels read no pickup weight beyond it.
     int pickupCount() const { return pickupCount_; }
     int activeMode(int i) const { return active_[size_t(i)]; }
+    const int* activeModes() const { return active_.data(); }  // activeMode(i) for i < activeCount()
     int indexOfMode(int p) const { return p < M_ ? indexOfMode_[size_t(p)] : -1; }  // -1: not active
     bool pairable() const { return pairable_; }
 
