@@ -29,7 +29,7 @@ run --scene Resources/Scenes/paper-tanpura.json --knobs joint --no-floor
 run --scene Resources/Scenes/tanpura-thread.json --knobs '' --no-floor --ladder 4001:32e6:1002,4001:64e6:1002,8003:128e6:1002
 # The rate extrapolated: the point contact settles (tanpura-thread's converged configuration), the plain parabola not.
 run --scene Resources/Scenes/tanpura-thread.json --knobs extrapolated --no-floor
-run --scene Resources/Scenes/parabola-bridge.json --knobs extrapolated --no-floor
+run --scene Resources/Scenes/parabola-bridge.json --knobs extrapolated --no-floor --extend
 # parabola-bridge's points halved at (2003, 16 MHz) extrapolated: the points settle there, the modes and rate do not.
 run --scene Resources/Scenes/parabola-bridge.json --knobs '' --no-floor --ladder 2003:16e6:16032:x,2003:16e6:32064:x
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,8003:4e6:16032
