@@ -2,7 +2,7 @@
 // convergence on bridges"): sitar-bridge.json names the configuration where the reference stops
 // moving (4001 modes, 4 MHz, contact points L/16032 apart), tanpura-thread.json the point contacts'
 // (2003 modes at 16 MHz with the rate extrapolated, its bridge's points L/16032 apart), each stored
-// in Resources/References since it takes five to ten CPU minutes a second. The bridge's quality
+// in Resources/References since it takes three to nine CPU minutes a second. The bridge's quality
 // table is measured against them, and so is the reference at the paper's configuration, which the
 // faster tests still use.
 
@@ -48,7 +48,7 @@ void checkStoredIsRender(const std::string& name)
 }
 }  // namespace
 
-// About ten and five CPU minutes: run by hand after anything that may move the reference
+// About nine and three CPU minutes (machine F): run by hand after anything that may move the reference
 // (jawari-plugin-tests "[converged]").
 TEST_CASE("the stored converged reference is the sitar-bridge scene's own render", "[.][converged]")
 {
