@@ -213,7 +213,7 @@ TEST_CASE("points out of the string's reach never touch, and leaving them out ch
 }
 
 TEST_CASE("A step over a thousand modes or more solves only the points its high modes may carry to the bridge "
-          "(EngagedPoints), and its motion is the step's over every live point, bit for bit")
+          "(EngagedPoints), and its motion is the step's over every live point to rounding")
 {
     // parabola-bridge as the reference's refinement study runs it, a rung down: 1201 modes at 4 MHz,
     // its bridge sampled every L/8016 (161 points), the 1.5 mm pluck, 4 ms.

@@ -49,16 +49,9 @@ void ContactReach::measure(const std::vector<ExactModeCoefficients>& normal,
         kappas[p] = std::max(kappa(normal[p]), kappa(released[p]));
     for (size_t j = 0; j < contacts.size(); ++j)
     {
-        double sum = 0.0;
-        for (size_t p = 0; p < M; ++p)
-        {
-            const double k = kappa_[p];
-            const double phi = shapes[j * M + p];
-            sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
-        }
         const double spring =
             compliance.active() ? std::max(compliance.diagonal(int(j)), 0.0) : 0.0;
-        reach_[j] = std::sqrt(2.0 * sum / mu) + 2.0 * std::sqrt(spring);
+        reach_[j] = modesReach(shapes.data() + j * M, nullptr, int(M), mu) + 2.0 * std::sqrt(spring);
     }
 }
 
@@ -68,17 +61,22 @@ void ContactReach::measureTail(const int* tailModes, int count, const std::vecto
         return;
     const size_t M = kappa_.size();
     for (size_t j = 0; j < tail_.size(); ++j)
+        tail_[j] = modesReach(shapes.data() + j * M, tailModes, count, mu);
+}
+
+// sqrt((2/mu) sum_p phi_p^2 kappa_p^2) over a point's row of shapes, for the `count` modes `modes`
+// (null: the first `count`).
+double ContactReach::modesReach(const double* row, const int* modes, int count, double mu) const
+{
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i)
     {
-        double sum = 0.0;
-        for (int i = 0; i < count; ++i)
-        {
-            const size_t p = size_t(tailModes[i]);
-            const double k = kappa_[p];
-            const double phi = shapes[j * M + p];
-            sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
-        }
-        tail_[j] = std::sqrt(2.0 * sum / mu);
+        const size_t p = modes != nullptr ? size_t(modes[i]) : size_t(i);
+        const double k = kappa_[p];
+        const double phi = row[p];
+        sum += phi == 0.0 ? 0.0 : phi * phi * k * k;
     }
+    return std::sqrt(2.0 * sum / mu);
 }
 
 double ContactReach::reachRadius(double H)

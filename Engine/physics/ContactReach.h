@@ -102,6 +102,7 @@ public:
 
 private:
     static double reachRadius(double H);  // 1.05 sqrt(H), H < 0 as 0
+    double modesReach(const double* row, const int* modes, int count, double mu) const;
 
     bool enabled_ = false;
     std::vector<double> reach_;    // per point, m per sqrt(J)

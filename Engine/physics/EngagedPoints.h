@@ -49,7 +49,6 @@ public:
     void collect(const int* live, int count);
     const int* rows() const { return rows_.data(); }
     int count() const { return count_; }
-    void append(int j) { rows_[std::size_t(count_++)] = j; }
 
     // Point j's eight partial sums of its projection (kernels::projectRowsPart), and its low modes' sum.
     double* lanes() { return lanes_.data(); }

@@ -77,7 +77,7 @@ void ModalSolver::predictOnMovingBridge()
     if (engaged_.anyOut())
         engageEveryPoint();  // a split step's points out (never on a body: EngagedPoints)
     if (reach_.liveCount() < P_)
-        std::copy(state_.qPrev() + state_.steepFrom(), state_.qPrev() + state_.activeCount(), steepPrevious_.begin());
+        keepSteepPrevious();
     predictAtPoints();
 }
 
@@ -626,18 +626,14 @@ void ModalSolver::stepSingle()
     if (!splitStep_ && engaged_.anyOut())
         engageEveryPoint();
     if (splitStep_)  // a point engaged mid-step takes their q^{n-1} from here (projectPointMidStep)
-        std::copy(state_.qPrev() + state_.steepFrom(), state_.qPrev() + state_.activeCount(), steepPrevious_.begin());
+        keepSteepPrevious();
     predictAtPoints();
     lastIterations_ = 0;
     pressing_.clear();
     if (P_ > 0)
     {
         for (int k = 0; k < stepCount(); ++k)
-        {
-            const int j = stepRows()[k];
-            s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
-            b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.restoring(j);
-        }
+            poseContactEquation(stepRows()[k]);
         lastIterations_ = solveContacts();
         while (splitStep_ && engageReached())
         {
@@ -657,6 +653,17 @@ void ModalSolver::stepSingle()
         engaged_.counters.engaged += engaged_.count();
     }
     splitStep_ = false;
+}
+
+void ModalSolver::poseContactEquation(int j)
+{
+    s_[j] = contacts_[j].height - uCPrev_[j] - compliance_.deltaPrev(j);
+    b_[j] = uTilde_[j] - uCPrev_[j] - compliance_.restoring(j);
+}
+
+void ModalSolver::keepSteepPrevious()
+{
+    std::copy(state_.qPrev() + state_.steepFrom(), state_.qPrev() + state_.activeCount(), steepPrevious_.begin());
 }
 
 void ModalSolver::measureReach()

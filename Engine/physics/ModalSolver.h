@@ -354,6 +354,9 @@ private:
     void predictSplit();        // the engaged points chosen, their predictions completed
     bool engageReached();       // after a solve: the others that the forces may bring to their obstacle
     void engageMidStep(int j);  // point j engaged after the prediction
+    void completePredictions(const int* rows, int count);  // their u~ summed over the high modes too
+    void poseContactEquation(int j);                       // RT: point j's s and b from u~ and u^{n-1}
+    void keepSteepPrevious();  // RT, before the prediction: q^{n-1} of the steep modes (steepPrevious_)
     // The rows the step solves: the engaged ones on a split step, else the live ones.
     const int* stepRows() const { return splitStep_ ? engaged_.rows() : reach_.liveRows(); }
     int stepCount() const { return splitStep_ ? engaged_.count() : reach_.liveCount(); }

@@ -58,11 +58,16 @@ void ModalSolver::predictSplit()
             engageMidStep(j);
     }
     engaged_.collect(rows, live);
-    const int* engagedRows = engaged_.rows();
-    kernels::projectRowsPart(state_.phi(0), state_.stride(), engagedRows, engaged_.count(), next, low,
+    completePredictions(engaged_.rows(), engaged_.count());
+}
+
+// u~ at these points: their low modes' lanes carried on over the high modes, summed as projectRows sums.
+void ModalSolver::completePredictions(const int* rows, int count)
+{
+    kernels::projectRowsPart(state_.phi(0), state_.stride(), rows, count, state_.qPrev(), EngagedPoints::kLowModes,
                              state_.paddedCount(), engaged_.lanes());
-    for (int k = 0; k < engaged_.count(); ++k)
-        uTilde_[engagedRows[k]] = kernels::sum8(engaged_.lanes(engagedRows[k]));
+    for (int k = 0; k < count; ++k)
+        uTilde_[rows[k]] = kernels::sum8(engaged_.lanes(rows[k]));
 }
 
 // Point j engaged after the prediction: u^n and u^{n-1} afresh (projectPointMidStep). Its u~ is
@@ -97,11 +102,8 @@ bool ModalSolver::engageReached()
         if (engaged_.low(j) - radius * reach_.tail(j) + Af > contacts_[size_t(j)].height)
             continue;
         engageMidStep(j);
-        kernels::projectRowsPart(state_.phi(0), state_.stride(), &j, 1, state_.qPrev(), EngagedPoints::kLowModes,
-                                 state_.paddedCount(), engaged_.lanes());
-        uTilde_[j] = kernels::sum8(engaged_.lanes(j));
-        s_[j] = contacts_[j].height - uCPrev_[j];
-        b_[j] = uTilde_[j] - uCPrev_[j];
+        completePredictions(&j, 1);
+        poseContactEquation(j);
         slope_[j] = 0.0;
         any = true;
     }
