@@ -102,6 +102,7 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
             if (o.isDistributed() && o.spacing == 0.0)
                 o.spacing = *spacing;
     s.config = stringSolverConfig(scene.string, obstacles, M, s.rateHz, scene.pickup.position, scene.pickup.quantity);
+    s.config.staticExactForcing = scene.simulation.staticExactForcing;
     s.initial = pluckModalShape(scene.string.lengthMetres, M, scene.excitation.position, scene.excitation.amplitude);
     if (const auto& force = scene.excitation.force)
     {
@@ -121,7 +122,8 @@ SolverSetup referenceSetup(const Scene& scene, std::optional<ContactPath> path)
         }
     }
     else if (!scene.body)
-        chooseContactPath(s.config, path.value_or(ContactPath::automatic));
+        chooseContactPath(s.config, path.value_or(scene.simulation.staticExactForcing ? ContactPath::projection
+                                                                                      : ContactPath::automatic));
     auto onBody = pointsOnBody(obstacles, scene.body, scene.string.lengthMetres, M + 1, s.config.contacts.size());
     if (scene.body)
     {

@@ -206,6 +206,8 @@ void validateScene(const Scene& scene)
                                                 + std::to_string(sim.outputRateHz) + " Hz");
     if (sim.extrapolateRate && !sim.reference)
         throw SceneError("simulation.extrapolate_rate", "applies to the reference only");
+    if (sim.staticExactForcing && !sim.reference)
+        throw SceneError("simulation.forcing", "\"static-exact\" applies to the reference only");
     if ((sim.extrapolateRate ? 2.0 : 1.0) * rate * sim.durationSeconds > 1e13)
         throw SceneError("simulation.duration", "rate x duration is more than 1e13 steps");
     if (const auto spacing = sim.contactSpacingMetres; spacing && !(*spacing >= L * 1e-6 && *spacing <= 0.5 * L))
@@ -300,6 +302,9 @@ void readSimulation(const json& value, Simulation& simulation)
     if (r.has("contact_spacing"))
         simulation.contactSpacingMetres = r.positive("contact_spacing", 0.0);
     simulation.extrapolateRate = r.boolean("extrapolate_rate", simulation.extrapolateRate);
+    simulation.staticExactForcing =
+        r.string("forcing", simulation.staticExactForcing ? "static-exact" : "paper", {"paper", "static-exact"})
+        == "static-exact";
     simulation.durationSeconds = r.positive("duration", simulation.durationSeconds);
     simulation.residualCompliance = r.boolean("residual_compliance", simulation.residualCompliance);
     if (r.has("residual_compliance_loss"))

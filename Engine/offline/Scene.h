@@ -65,6 +65,10 @@ struct Simulation
     // The reference only: rendered at the rate and at twice it, the output 2 y(2R) - y(R) (Richardson's
     // extrapolation of an error first order in the step: a contact shorter than a step).
     bool extrapolateRate = false;
+    // The reference only: each mode answers a force by its static compliance where the paper's gain
+    // dt^2/mu is too much (ModalSolverConfig::staticExactForcing). A scene's "forcing": "paper" (the
+    // default) or "static-exact".
+    bool staticExactForcing = false;
     double durationSeconds = 1.0;
     int outputRateHz = 48000;
     bool residualCompliance = true;  // the voice's methods: the dropped modes' static compliance in series
@@ -80,6 +84,7 @@ struct Simulation
         rateHz.reset();
         contactSpacingMetres.reset();
         extrapolateRate = false;
+        staticExactForcing = false;
     }
 };
 

@@ -86,6 +86,12 @@ ExactModeCoefficients exactCoefficients(double omega, double sigma, double dt)
     return c;
 }
 
+double staticForcingGain(double omega, double sigma, double dt)
+{
+    const double x = omega * dt;
+    return x == 0.0 ? 1.0 : onePlusEMinusA(omega, sigma, dt) / (x * x);
+}
+
 double freeDampedMotion(double q0, double v0, double omega, double sigma, double t)
 {
     if (beyondCosh(omega, sigma, t))

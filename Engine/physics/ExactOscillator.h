@@ -25,6 +25,13 @@ ExactModeCoefficients exactCoefficients(double omega, double sigma, double dt);
 // 1 + e - a, computed without cancellation (docs/design.md section 2).
 double onePlusEMinusA(double omega, double sigma, double dt);
 
+// gamma = (1 + e - a) / (omega dt)^2 = C2 / omega^2: the share of the paper's force gain dt^2/mu that
+// makes a force held still deflect the mode by exactly its static compliance F phi / (mu omega^2)
+// (the recurrence's fixed point under a constant force is gamma dt^2 F phi / (mu (1 + e - a))). 1 - O(dt^2)
+// for omega dt, sigma dt << 1; about 1 / (2 sigma dt) for a mode damped far past a step, about
+// 2 (1 - cos omega dt) / (omega dt)^2 for a light mode faster than one. 1 for omega = 0.
+double staticForcingGain(double omega, double sigma, double dt);
+
 // The analytic free motion q(t) of q'' + 2 sigma q' + omega^2 q = 0 with q(0) = q0, q'(0) = v0.
 double freeDampedMotion(double q0, double v0, double omega, double sigma, double t);
 

@@ -449,6 +449,8 @@ double ModalSolver::pickupAboveBand(bool second) const
 
 void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
 {
+    if (!modeScale_.empty())  // its gains, shapes and state would change with the coefficients
+        throw std::logic_error("a solver with the static-exact forcing is not retuned");
     state_.toSingle();  // the paired layout's corrections were made with the old coefficients
     auto& omegas = omega_.edit();
     auto& sigmas = sigma_.edit();
@@ -533,7 +535,10 @@ void ModalSolver::displacementAt(const double* shapes, int count, double* out)
     {
         double u = 0.0;
         for (int i = 0; i < state_.activeCount(); ++i)
-            u += q[i] * shapes[size_t(k) * M_ + state_.activeMode(i)];
+        {
+            const int p = state_.activeMode(i);
+            u += q[i] * shapes[size_t(k) * M_ + p] * (modeScale_.empty() ? 1.0 : modeScale_[size_t(p)]);
+        }
         out[k] = u;
     }
 }

@@ -91,6 +91,14 @@ struct ModalSolverConfig
     // obstacle, on a step over many modes (EngagedPoints); off: every live point (the same motion, a
     // comparison).
     bool splitModes = true;
+    // Each mode answers a force with gamma_p = C2_p / omega_p^2 of the paper's gain dt^2/mu
+    // (staticForcingGain), so that a force held still deflects it by exactly its static compliance:
+    // the paper's scheme gives every mode dt^2/mu a step, far more than a mode with omega dt or
+    // sigma dt >> 1 can move (docs/design.md section 2, "The forcing of the fast modes"). The free
+    // motion stays exact and the energy balance exact. Built as the same scheme in coordinates
+    // p_p = q_p / sqrt(gamma_p): the contact shapes, pickups and excitation scaled by sqrt(gamma_p).
+    // Projection path only; the voice's retuning is refused.
+    bool staticExactForcing = false;
 };
 
 class ModalSolver
@@ -108,7 +116,8 @@ public:
     // exact free motion, so without contact the run is the analytic solution (modes damped by
     // more than e^0.5 per step start with q^{-1} = q(+dt) instead, see the .cpp).
     void setInitialDisplacement(const std::vector<double>& modalDisplacement);
-    // OFF/CT: an explicit state pair (q^n, q^{n-1}).
+    // OFF/CT: an explicit state pair (q^n, q^{n-1}), in the solver's coordinates (p_p with
+    // staticExactForcing, as modalState() gives them).
     void setState(const std::vector<double>& current, const std::vector<double>& previous);
 
     void step();  // RT: n -> n+1
@@ -256,6 +265,8 @@ public:
     void takeMotionFrom(ModalSolver& other);
 
     int modeCount() const { return M_; }
+    // sqrt(gamma_p) of every mode with staticExactForcing (q_p = sqrt(gamma_p) p_p), else empty.
+    const std::vector<double>& modeScale() const { return modeScale_; }
     // Modes actually stepped: a mode that no contact point couples to (phi_p(x_j) = 0 for every j,
     // to 1e-13 of the largest) and that starts at zero (to 1e-13 of the largest mode) stays at
     // zero, so it is skipped (the centre obstacle and centre pluck leave every even mode out).
@@ -285,7 +296,8 @@ public:
     // RT: max_j g_j - u_j^n (m) over the unilateral points
     double lastMaxPenetration() const { return lastPenetration_; }
 
-    // OFF: the full modal state, q^n (previous = false) or q^{n-1}.
+    // OFF: the full modal state, q^n (previous = false) or q^{n-1}, in the solver's coordinates
+    // (p_p = q_p / sqrt(gamma_p) with staticExactForcing: modeScale()).
     std::vector<double> modalState(bool previous = false);
 
     // H^{n-1/2} of docs/design.md section 2 from the stored (q^n, q^{n-1}), contact part
@@ -340,6 +352,10 @@ private:
     int solveSplines();
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
+    void scaleByModes(double* values, int count) const;
+    void scaleByModes(std::vector<double>& values) const { scaleByModes(values.data(), int(values.size())); }
+    // RT: q_p as the solver holds it (p_p = q_p / sqrt(gamma_p) with staticExactForcing).
+    double toSolverCoordinate(int p, double q) const { return modeScale_.empty() ? q : q / modeScale_[size_t(p)]; }
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
     // sum_j w_j (psi_j at n + psi_j at n-1) / 2, the obstacles raised by `raise` at n and `raiseBefore` at n-1.
@@ -380,6 +396,7 @@ private:
     StampedVector<double> shapes_;           // P x M, phi_p(x_j) for every mode (projection path)
     StampedVector<char> coupled_;            // mode p touches some contact point
     StampedVector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
+    std::vector<double> modeScale_;          // sqrt(gamma_p) with staticExactForcing, else empty
 
     // The prediction q~ = a q^n - e q^{n-1} (with an explicit force), and what the pickups read of it.
     ModalState state_;

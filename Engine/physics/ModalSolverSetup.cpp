@@ -26,6 +26,8 @@ ModalSolver::ModalSolver(const ModalSolverConfig& config)
         throw std::invalid_argument("the modal solver needs at least one mode");
     if (!(dt_ > 0.0) || !(mu_ > 0.0) || !(config.lengthMetres > 0.0))
         throw std::invalid_argument("the modal solver needs a positive time step, density and length");
+    if (config.staticExactForcing && config.transform)
+        throw std::invalid_argument("the static-exact forcing scales the contact shapes: it takes the projection path");
     for (auto& c : contacts_)
         c.law = solverLaw(c.law, dt_);
     buildModeTables(config);
@@ -68,13 +70,22 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
         coeffs[p] = exactCoefficients(omega_[p], sigma_[p], dt_);
         coeffsReleased[p] = exactCoefficients(omega_[p], sigma_[p] + config.releaseSigma, dt_);
     }
+    if (config.staticExactForcing)
+    {
+        modeScale_.resize(size_t(M_));
+        for (int p = 0; p < M_; ++p)
+            modeScale_[size_t(p)] = std::sqrt(staticForcingGain(omega_[p], sigma_[p], dt_));
+    }
     if (config.pickupBandHz < 0.0 || !std::isfinite(config.pickupBandHz))
         throw std::invalid_argument("the pickup band must be a frequency >= 0 Hz");
     const double bandOmega = 2.0 * std::numbers::pi * config.pickupBandHz;
     std::vector<double> first = config.pickupWeights;
     first.resize(M_, 0.0);  // the first pickup is always there (its weights may all be 0)
+    std::vector<double> second = config.secondPickupWeights;
+    scaleByModes(first);
+    scaleByModes(second);
     pickups_[0].configure(first, M_, bandOmega, P_);
-    pickups_[1].configure(config.secondPickupWeights, M_, bandOmega, P_);
+    pickups_[1].configure(second, M_, bandOmega, P_);
     for (auto& pickup : pickups_)
         pickup.setWeights(omega_, 1.0);
 }
@@ -96,6 +107,17 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
             for (int p = 0; p < M_; ++p)
                 shapes[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
     }
+    if (!modeScale_.empty())
+        for (int j = 0; j < P_; ++j)
+            scaleByModes(shapes_.edit().data() + size_t(j) * M_, M_);
+}
+
+// Values over the modes times sqrt(gamma_p) (staticExactForcing: what reads or pushes q_p = sqrt(gamma_p)
+// p_p); unchanged without it. An empty vector stays empty.
+void ModalSolver::scaleByModes(double* values, int count) const
+{
+    for (int p = 0; p < count && !modeScale_.empty(); ++p)
+        values[p] *= modeScale_[size_t(p)];
 }
 
 // A mode is coupled when some contact point, or the excitation point, sees it above rounding
@@ -123,6 +145,7 @@ void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
             if (std::abs(excitationShape[p]) > couplingFloor)
                 coupled[p] = 1;
         }
+        scaleByModes(excitationShape.data(), M_);
     }
 }
 
@@ -211,10 +234,13 @@ void ModalSolver::setInitialDisplacement(const std::vector<double>& modalDisplac
     // solution. For a mode damped by more than e^0.5 per step that value is huge (e^{sigma dt}: the
     // top modes of a fine grid at an audio rate reach e^26) and the recurrence would cancel huge
     // numbers; such a mode starts at rest in the centred sense instead, q^{-1} = q(+dt).
-    std::vector<double> previous(M_, 0.0);
+    std::vector<double> current(modalDisplacement), previous(M_, 0.0);
     for (int p = 0; p < M_; ++p)
-        previous[p] = previousAtRest(p, modalDisplacement[p]);
-    setState(modalDisplacement, previous);
+    {
+        current[p] = toSolverCoordinate(p, current[p]);
+        previous[p] = previousAtRest(p, current[p]);
+    }
+    setState(current, previous);
 }
 
 double ModalSolver::previousAtRest(int p, double q0) const
@@ -229,7 +255,8 @@ void ModalSolver::startFrom(const double* modalDisplacement)
     for (int i = 0; i < state_.activeCount(); ++i)
     {
         const int p = state_.activeMode(i);
-        state_.set(i, modalDisplacement[p], previousAtRest(p, modalDisplacement[p]));
+        const double now = toSolverCoordinate(p, modalDisplacement[p]);
+        state_.set(i, now, previousAtRest(p, now));
     }
     restartFromModes();
 }
@@ -257,8 +284,11 @@ void ModalSolver::takeMotionFrom(ModalSolver& other)
     const double* qPrev = other.state_.qPrev();
     for (int i = 0; i < state_.activeCount(); ++i)
     {
-        const int k = other.state_.indexOfMode(state_.activeMode(i));
-        state_.set(i, k >= 0 ? q[k] : 0.0, k >= 0 ? qPrev[k] : 0.0);
+        const int p = state_.activeMode(i);
+        const int k = other.state_.indexOfMode(p);
+        const double scale = other.modeScale_.empty() ? 1.0 : other.modeScale_[size_t(p)];  // to q_p
+        state_.set(i, k >= 0 ? toSolverCoordinate(p, scale * q[k]) : 0.0,
+                   k >= 0 ? toSolverCoordinate(p, scale * qPrev[k]) : 0.0);
     }
     restartFromModes();
 }

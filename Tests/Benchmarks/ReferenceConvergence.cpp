@@ -23,11 +23,13 @@
 // The floor row: the base against itself with the pluck's amplitude raised by 1e-4.
 // CSV to stdout, one row per render (CPU seconds, one core) and per pair; progress to stderr.
 // --cache DIR keeps every render's output, so a long study can run in chunks. --ladder adds a
-// ladder of its own (modes:rate:intervals per rung, with ":x" the rate extrapolated); --knobs "" runs only it. The renders a study
+// ladder of its own (modes:rate:intervals per rung, with ":x" the rate extrapolated, ":s" the static-exact
+// forcing, ":xs" both); --knobs "" runs only it. The renders a study
 // needs run side by side, one a core (--jobs N, every core by default); the rows come out in order.
 //
 //   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated]
-//                      [--rungs N] [--ladder M:RATE:N[:x],...] [--cache DIR] [--no-floor] [--extend] [--quick] [--jobs N]
+//                      [--rungs N] [--ladder M:RATE:N[:x|:s|:xs],...] [--cache DIR] [--no-floor] [--extend] [--quick]
+//                      [--jobs N]
 
 #include "offline/Analysis.h"
 #include "offline/CpuClock.h"
@@ -65,6 +67,7 @@ struct Rung
     double rateHz = 2e6;
     int intervals = 1002;
     bool extrapolated = false;  // rendered at rateHz and twice it: 2 y(2R) - y(R)
+    bool staticExact = false;   // the static-exact forcing (a scene's "forcing": "static-exact")
 };
 
 struct Ladder
@@ -118,7 +121,8 @@ struct Options
 
 const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S]\n"
                      "                          [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated]\n"
-                     "                          [--rungs N] [--ladder M:RATE:N[:x],...] [--cache DIR] [--no-floor] [--extend] [--quick]\n"
+                     "                          [--rungs N] [--ladder M:RATE:N[:x|:s|:xs],...] [--cache DIR] "
+                     "[--no-floor] [--extend] [--quick]\n"
                      "                          [--jobs N]\n";
 
 std::vector<std::string> splitCommas(const std::string& text)
@@ -157,11 +161,13 @@ bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
         int used = 0;
         const bool read = std::sscanf(item.c_str(), "%d:%lf:%d%n", &r.modes, &r.rateHz, &r.intervals, &used) == 3;
         const std::string rest = read ? item.substr(size_t(used)) : std::string();
-        r.extrapolated = rest == ":x";
-        if (!read || !(rest.empty() || r.extrapolated) || r.modes < 1 || r.modes > 100000
+        r.extrapolated = rest == ":x" || rest == ":xs";
+        r.staticExact = rest == ":s" || rest == ":xs";
+        if (!read || !(rest.empty() || r.extrapolated || r.staticExact) || r.modes < 1 || r.modes > 100000
             || !(r.rateHz >= 1e3 && r.rateHz <= 1e9) || r.intervals < 2)
-            return fail("--ladder rung '" + item + "' is not M:rate_hz:intervals[:x] (M 1..100000, rate 1e3..1e9 Hz, "
-                        "intervals >= 2; :x the rate extrapolated)");
+            return fail("--ladder rung '" + item
+                        + "' is not M:rate_hz:intervals[:x|:s|:xs] (M 1..100000, rate 1e3..1e9 "
+                          "Hz, intervals >= 2; x the rate extrapolated, s the static-exact forcing)");
         rungs.push_back(r);
     }
     return rungs.size() >= 2 || fail("--ladder needs at least two rungs");
@@ -252,6 +258,7 @@ Scene sceneAt(const Scene& base, const Rung& r, double duration, double amplitud
     s.simulation.durationSeconds = duration;
     s.simulation.modes = r.modes;
     s.simulation.rateHz = r.rateHz;
+    s.simulation.staticExactForcing = r.staticExact;
     s.excitation.amplitude *= amplitudeScale;
     for (auto& o : s.obstacles)
         if (o.isDistributed())
@@ -262,16 +269,16 @@ Scene sceneAt(const Scene& base, const Rung& r, double duration, double amplitud
 std::string cacheName(const std::string& sceneStem, const Rung& r, double duration, double amplitudeScale)
 {
     char text[256];
-    std::snprintf(text, sizeof text, "%s-d%g-M%d-R%.0f-N%d-a%.17g%s.bin", sceneStem.c_str(), duration, r.modes,
-                  r.rateHz, r.intervals, amplitudeScale, r.extrapolated ? "-x" : "");
+    std::snprintf(text, sizeof text, "%s-d%g-M%d-R%.0f-N%d-a%.17g%s%s.bin", sceneStem.c_str(), duration, r.modes,
+                  r.rateHz, r.intervals, amplitudeScale, r.extrapolated ? "-x" : "", r.staticExact ? "-s" : "");
     return text;
 }
 
 // The two plain renders an extrapolated rung combines: at its rate and at twice it.
 std::pair<Rung, Rung> extrapolatedParts(const Rung& r)
 {
-    const Rung low{r.modes, r.rateHz, r.intervals, false};
-    return {low, Rung{r.modes, 2.0 * r.rateHz, r.intervals, false}};
+    const Rung low{r.modes, r.rateHz, r.intervals, false, r.staticExact};
+    return {low, Rung{r.modes, 2.0 * r.rateHz, r.intervals, false, r.staticExact}};
 }
 
 // The plain renders that the wanted (rung, pluck scale) pairs need: an extrapolated rung's two parts.
@@ -493,10 +500,12 @@ private:
     {
         std::printf("render,%s,%s,%d,%.0f,%d,%zu,%s,%.4g,%d,%.3g,,,,,,\n", stem_.c_str(),
                     amplitudeScale == 1.0 ? "" : "floor", r.modes, r.rateHz, r.intervals, contactPoints(r),
-                    out.output.empty()  ? "failed"
-                    : r.extrapolated    ? (out.transform ? "transform-extrapolated" : "projection-extrapolated")
-                    : out.transform     ? "transform"
-                                        : "projection",
+                    out.output.empty()                ? "failed"
+                    : r.staticExact && r.extrapolated ? "static-exact-extrapolated"
+                    : r.staticExact                   ? "static-exact"
+                    : r.extrapolated ? (out.transform ? "transform-extrapolated" : "projection-extrapolated")
+                    : out.transform  ? "transform"
+                                     : "projection",
                     out.cpuSeconds, out.newtonMax, out.penetration);
         std::fflush(stdout);
     }
