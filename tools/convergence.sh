@@ -13,7 +13,8 @@ bash tools/deps.sh python3-matplotlib  # the plot
 study=./build/Tests/jawari-convergence
 cache=(--cache build/convergence-cache)
 out=$(mktemp)
-run() { "$study" "${cache[@]}" "$@" | grep -E '^(kind|pair|floor),' >> "$out"; }
+# The study's rows without the per-render columns (contact points, path, CPU, Newton, penetration).
+run() { "$study" "${cache[@]}" "$@" | grep -E '^(kind|pair|floor),' | cut -d, -f1-6,12-17 >> "$out"; }
 for scene in sitar-bridge parabola-bridge tanpura-thread; do
     run --scene "Resources/Scenes/$scene.json" --knobs modes,rate,spacing,modes-fine --extend
     run --scene "Resources/Scenes/$scene.json" --knobs all --no-floor
@@ -35,8 +36,12 @@ run --scene Resources/Scenes/parabola-bridge.json --knobs '' --no-floor --ladder
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,8003:4e6:16032
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,4001:8e6:16032
 run --scene Resources/Scenes/sitar-bridge.json --knobs '' --no-floor --ladder 4001:4e6:16032,4001:4e6:32064
+# The static-exact forcing (a scene's "forcing": "static-exact"), each knob from (2003, 2 MHz, L/16032).
+for scene in sitar-bridge parabola-bridge tanpura-thread; do
+    run --scene "Resources/Scenes/$scene.json" --knobs static-modes,static-rate,static-spacing --no-floor
+done
 # One header, then the pairs and floors by scene, ladder and rung, coarse to fine.
-{ grep -m1 '^kind,' "$out"; grep -v '^kind,' "$out" | sort -t, -k2,2 -k3,3 -k12,12n -k13,13g -k14,14n; } \
-    > Resources/Charts/convergence.csv
+{ grep -m1 '^kind,' "$out"; grep -v '^kind,' "$out" | sort -t, -k2,2 -k3,3 -k7,7n -k8,8g -k9,9n; } \
+    | sed 's/$/\r/' > Resources/Charts/convergence.csv
 rm -f "$out"
 /usr/bin/python3 tools/plot_charts.py Resources/Charts convergence

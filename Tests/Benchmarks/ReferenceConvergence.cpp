@@ -14,6 +14,8 @@
 //   extrapolated  (1001, 8 MHz), (2003, 16 MHz), (4001, 32 MHz) at L/16032, each the rate extrapolated:
 //            rendered at R and 2R, 2 y(2R) - y(R) (a scene's "extrapolate_rate"), which cancels an
 //            error first order in the step (a contact shorter than it); (8003, 64 MHz) with --extend
+//   static-modes, static-rate, static-spacing  the static-exact forcing from (2003, 2 MHz, L/16032):
+//            M = 1001, 2003, 4001 at 4 MHz; 1, 2, 4, 8 MHz; L/8016 to L/64128
 //
 // Per pair, with the finer rung as the reference, both outputs low-passed at 20 kHz (as in
 // jawari-accuracy): relL2 over the first 100 ms (or the whole render if shorter), and the
@@ -27,7 +29,8 @@
 // forcing, ":xs" both); --knobs "" runs only it. The renders a study
 // needs run side by side, one a core (--jobs N, every core by default); the rows come out in order.
 //
-//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated]
+//   jawari-convergence [--scene FILE] [--duration S] [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated,
+//                                                            static-modes,static-rate,static-spacing]
 //                      [--rungs N] [--ladder M:RATE:N[:x|:s|:xs],...] [--cache DIR] [--no-floor] [--extend] [--quick]
 //                      [--jobs N]
 
@@ -93,7 +96,21 @@ std::vector<Ladder> allLadders(bool extend)
         {"joint", {{1001, 2e6, 16032}, {2003, 8e6, 16032}, {4001, 32e6, 16032}}},
         // Modes and rate together with the rate extrapolated (the rate's first-order error cancelled),
         // the rate doubling with the modes.
-        {"extrapolated", {{1001, 8e6, 16032, true}, {2003, 16e6, 16032, true}, {4001, 32e6, 16032, true}}}};
+        {"extrapolated", {{1001, 8e6, 16032, true}, {2003, 16e6, 16032, true}, {4001, 32e6, 16032, true}}},
+        // The static-exact forcing (ModalSolverConfig::staticExactForcing), each knob alone from
+        // (2003 modes, 2 MHz, L/16032): the modes at 4 MHz, the rate, the points.
+        {"static-modes",
+         {{1001, 4e6, 16032, false, true}, {2003, 4e6, 16032, false, true}, {4001, 4e6, 16032, false, true}}},
+        {"static-rate",
+         {{2003, 1e6, 16032, false, true},
+          {2003, 2e6, 16032, false, true},
+          {2003, 4e6, 16032, false, true},
+          {2003, 8e6, 16032, false, true}}},
+        {"static-spacing",
+         {{2003, 2e6, 8016, false, true},
+          {2003, 2e6, 16032, false, true},
+          {2003, 2e6, 32064, false, true},
+          {2003, 2e6, 64128, false, true}}}};
     if (extend)
     {
         ladders[0].rungs.push_back({8003, 2e6, 1002});
@@ -120,7 +137,8 @@ struct Options
 };
 
 const char* kUsage = "usage: jawari-convergence [--scene FILE] [--duration S]\n"
-                     "                          [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated]\n"
+                     "                          [--knobs modes,rate,spacing,all,modes-fine,joint,extrapolated,\n"
+                     "                                   static-modes,static-rate,static-spacing]\n"
                      "                          [--rungs N] [--ladder M:RATE:N[:x|:s|:xs],...] [--cache DIR] "
                      "[--no-floor] [--extend] [--quick]\n"
                      "                          [--jobs N]\n";
@@ -176,7 +194,8 @@ bool parseLadder(const std::string& text, std::vector<Rung>& rungs)
 // Reads the command line into `o`; false (after a message) on anything it does not understand.
 bool parseOptions(int argc, char** argv, Options& o)
 {
-    const std::vector<std::string> known{"modes", "rate", "spacing", "all", "modes-fine", "joint", "extrapolated"};
+    const std::vector<std::string> known{"modes", "rate",         "spacing",      "all",         "modes-fine",
+                                         "joint", "extrapolated", "static-modes", "static-rate", "static-spacing"};
     for (int i = 1; i < argc; ++i)
     {
         const std::string a = argv[i];
@@ -228,7 +247,8 @@ bool parseOptions(int argc, char** argv, Options& o)
                 for (const auto& k : o.knobs)
                     if (std::find(known.begin(), known.end(), k) == known.end())
                         return fail("unknown knob '" + k
-                                    + "' (knobs: modes, rate, spacing, all, modes-fine, joint, extrapolated)");
+                                    + "' (knobs: modes, rate, spacing, all, modes-fine, joint, extrapolated, "
+                                      "static-modes, static-rate, static-spacing)");
             }
         }
         else
