@@ -11,34 +11,7 @@
 
 using namespace jawari;
 
-namespace
-{
-struct Drift
-{
-    double worst = 0.0;
-    double largestContactEnergy = 0.0;
-    long contactSteps = 0;
-};
-
-Drift losslessDrift(ModalSolver& solver, long steps)
-{
-    Drift d;
-    const double H0 = solver.energy().total;
-    for (long n = 0; n < steps; ++n)
-    {
-        solver.step();
-        if (solver.lastMaxPenetration() > 0.0)
-            ++d.contactSteps;
-        if (n % 97 == 0 || n == steps - 1)
-        {
-            const auto H = solver.energy();
-            d.worst = std::max(d.worst, std::abs(H.total - H0) / H0);
-            d.largestContactEnergy = std::max(d.largestContactEnergy, H.contact);
-        }
-    }
-    return d;
-}
-}  // namespace
+using test::losslessDrift;
 
 TEST_CASE("lossless contact with a point obstacle conserves energy to 1e-9 over 1e5 steps, by Newton and by "
           "the quadratic spline (its own potential's energy)")
@@ -138,14 +111,8 @@ TEST_CASE("lossless contact with a bridge on its own contact points (off the mod
     // A Sitar-like bridge on its fixed contact grid (L/1002) meets a 197-mode string off its grid:
     // 20 coupled points on the paper string, solved by the P x P Newton.
     auto s = test::paperString(DampingLaw::none);
-    Obstacle bridge;
-    bridge.type = ObstacleType::parabola;
-    bridge.position = 0.0108;
-    bridge.width = 0.02;
-    bridge.curvature = 8.0;
-    bridge.law = {1e12, 1.5};
     const int M = 197;
-    auto config = stringSolverConfig(s, {bridge}, M, 288000.0, 0.992, PickupQuantity::displacement);
+    auto config = stringSolverConfig(s, {test::sitarLikeBridge()}, M, 288000.0, 0.992, PickupQuantity::displacement);
     REQUIRE(config.contacts.size() == 20);
     ModalSolver solver(config);
     solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.18, 1e-3));

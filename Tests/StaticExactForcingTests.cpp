@@ -81,32 +81,17 @@ TEST_CASE("with the static-exact forcing, lossless contact conserves energy to 1
     // The Sitar-like bridge of EnergyTests on its own contact points (20 coupled points, 197 modes at
     // 288 kHz, where the top modes are faster than a step), made lossless.
     auto s = test::paperString(DampingLaw::none);
-    Obstacle bridge;
-    bridge.type = ObstacleType::parabola;
-    bridge.position = 0.0108;
-    bridge.width = 0.02;
-    bridge.curvature = 8.0;
-    bridge.law = {1e12, 1.5};
     const int M = 197;
-    auto config = stringSolverConfig(s, {bridge}, M, 288000.0, 0.992, PickupQuantity::displacement);
+    auto config = stringSolverConfig(s, {test::sitarLikeBridge()}, M, 288000.0, 0.992, PickupQuantity::displacement);
     config.staticExactForcing = true;
     ModalSolver solver(config);
     REQUIRE(solver.modeScale().size() == size_t(M));
     CHECK(std::pow(solver.modeScale().back(), 2) < 0.95);  // the top mode answers a force less than the paper's
     solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.18, 1e-3));
-    const double H0 = solver.energy().total;
-    double worst = 0.0;
-    long contactSteps = 0;
-    for (long n = 0; n < 100000; ++n)
-    {
-        solver.step();
-        contactSteps += solver.lastMaxPenetration() > 0.0 ? 1 : 0;
-        if (n % 97 == 0)
-            worst = std::max(worst, std::abs(solver.energy().total - H0) / H0);
-    }
-    INFO("relative drift " << worst << ", contact steps " << contactSteps);
-    CHECK(contactSteps > 1000);
-    CHECK(worst < 1e-9);
+    const auto d = test::losslessDrift(solver, 100000);
+    INFO("relative drift " << d.worst << ", contact steps " << d.contactSteps);
+    CHECK(d.contactSteps > 1000);
+    CHECK(d.worst < 1e-9);
 
     // Without an obstacle the two forcings step the same free motion (exact in both).
     auto freeConfig = stringSolverConfig(s, {}, M, 288000.0, 0.992, PickupQuantity::displacement);

@@ -144,6 +144,47 @@ inline ModalSolverConfig gridConfig(const StringParameters& string, int M, doubl
     return c;
 }
 
+// A Sitar-like bridge 2 cm wide from 0.0108 m, 8 /m, at 1e12 N/m^1.5: on its own contact grid (L/1002)
+// the paper's string meets it at 20 coupled points.
+inline Obstacle sitarLikeBridge()
+{
+    Obstacle bridge;
+    bridge.type = ObstacleType::parabola;
+    bridge.position = 0.0108;
+    bridge.width = 0.02;
+    bridge.curvature = 8.0;
+    bridge.law = {1e12, 1.5};
+    return bridge;
+}
+
+// The largest relative change of the solver's energy H over `steps` steps (sampled every 97), the
+// steps in contact and the largest contact energy seen.
+struct Drift
+{
+    double worst = 0.0;
+    double largestContactEnergy = 0.0;
+    long contactSteps = 0;
+};
+
+inline Drift losslessDrift(ModalSolver& solver, long steps)
+{
+    Drift d;
+    const double H0 = solver.energy().total;
+    for (long n = 0; n < steps; ++n)
+    {
+        solver.step();
+        if (solver.lastMaxPenetration() > 0.0)
+            ++d.contactSteps;
+        if (n % 97 == 0 || n == steps - 1)
+        {
+            const auto H = solver.energy();
+            d.worst = std::max(d.worst, std::abs(H.total - H0) / H0);
+            d.largestContactEnergy = std::max(d.largestContactEnergy, H.contact);
+        }
+    }
+    return d;
+}
+
 inline Obstacle pointObstacle(double position, double height = 0.0, double width = 1e-3, double K = 1e13,
                               double alpha = 1.3)
 {
