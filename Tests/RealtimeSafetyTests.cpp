@@ -5,6 +5,7 @@
 
 #include "TestSupport.h"
 #include "offline/Scene.h"
+#include "physics/StringDiscretisation.h"
 #include "realtime/Voice.h"
 
 #include <catch2/catch.hpp>
@@ -27,6 +28,40 @@ TEST_CASE("the allocation counter sees allocations")
         seen = allocations;
     }
     CHECK(seen == 2);
+}
+
+TEST_CASE("A solver with the static-exact forcing retunes and steps without allocating")
+{
+    // Its retune forms the gains again: the state, shapes, pickups and the coupling A follow them.
+    auto s = test::paperString(DampingLaw::valette);
+    const int M = 197;
+    auto config = stringSolverConfig(s, {test::sitarLikeBridge()}, M, 288000.0, 0.992, PickupQuantity::displacement);
+    config.staticExactForcing = true;
+    ModalSolver solver(config);
+    solver.setInitialDisplacement(pluckModalShape(s.lengthMetres, M, 0.18, 1e-3));
+    auto omega = config.modes.omega;
+    long counted = 0;
+    double energyBefore = 0.0, energyAfter = 0.0;
+    {
+        CountAllocations guard;
+        for (const double ratio : {1.05, 0.9, 1.0})
+        {
+            for (size_t p = 0; p < omega.size(); ++p)
+                omega[p] = ratio * config.modes.omega[p];
+            solver.retune(omega.data(), config.modes.sigma.data(), 1.0);
+            for (int n = 0; n < 2000; ++n)
+                solver.step();
+        }
+        counted = allocations;
+    }
+    energyBefore = solver.energy().total;
+    for (int n = 0; n < 2000; ++n)
+        solver.step();
+    energyAfter = solver.energy().total;
+    INFO("allocations " << counted << ", energy " << energyBefore << " then " << energyAfter);
+    CHECK(counted == 0);
+    CHECK(energyAfter <= energyBefore);
+    CHECK(energyAfter > 0.5 * energyBefore);
 }
 
 TEST_CASE("Voice process and pluck and release and takeMotionFrom never allocate")

@@ -449,8 +449,6 @@ double ModalSolver::pickupAboveBand(bool second) const
 
 void ModalSolver::retune(const double* omega, const double* sigma, double complianceScale, double pickupScale)
 {
-    if (!modeScale_.empty())  // its gains, shapes and state would change with the coefficients
-        throw std::logic_error("a solver with the static-exact forcing is not retuned");
     state_.toSingle();  // the paired layout's corrections were made with the old coefficients
     auto& omegas = omega_.edit();
     auto& sigmas = sigma_.edit();
@@ -463,6 +461,8 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         coeffs[p] = exactCoefficients(omegas[p], sigmas[p], dt_);
         coeffsReleased[p] = exactCoefficients(omegas[p], sigmas[p] + releaseSigma_, dt_);
     }
+    if (!modeScale_.empty())
+        followStaticGains();
     for (auto& pickup : pickups_)
         pickup.setWeights(omega_, pickupScale);
     state_.fillTables(coeffs_, coeffsReleased_, pickups_[0].weights(), pickups_[1].weights());
@@ -470,21 +470,51 @@ void ModalSolver::retune(const double* omega, const double* sigma, double compli
         if (const double* h = activePickupWeights(k))
             pickups_[size_t(k)].rereadActive(h, state_, pickupForces(), !transform_);
     if (compliance_.active())
-    {
         compliance_.rescale(complianceScale, contacts_);
+    if (compliance_.active() || !modeScale_.empty())
         updateCouplings();
-    }
     measureReach();
     reach_.markStale();  // the same motion at another pitch holds another energy
 }
 
+// Each mode's new sqrt(gamma_p) over its old, r_p, divides its coordinate p_p and multiplies its
+// contact shapes, excitation and pickup weights: q_p = sqrt(gamma_p) p_p and every reading stay the
+// same motion. The string's coupling A = (dt^2/mu) Phi Phi^T W is formed again from the new shapes
+// (P^2 M products: a few tens of thousands on a voice).
+void ModalSolver::followStaticGains()
+{
+    for (int p = 0; p < M_; ++p)
+    {
+        const double g = std::sqrt(staticForcingGain(omega_[p], sigma_[p], dt_));
+        gainRatio_[size_t(p)] = g / modeScale_[size_t(p)];
+        modeScale_[size_t(p)] = g;
+    }
+    state_.rescaleModes(gainRatio_.data());
+    auto& shapes = shapes_.edit();
+    for (int j = 0; j < P_ && !shapes.empty(); ++j)
+        for (int p = 0; p < M_; ++p)
+            shapes[size_t(j) * M_ + p] *= gainRatio_[size_t(p)];
+    if (!excitationShape_.empty())
+    {
+        auto& excitation = excitationShape_.edit();
+        for (int p = 0; p < M_; ++p)
+            excitation[size_t(p)] *= gainRatio_[size_t(p)];
+    }
+    for (auto& pickup : pickups_)
+        pickup.scaleConfigured(gainRatio_.data());
+    for (int i = 0; i < P_; ++i)
+        for (int j = 0; j < P_; ++j)
+            stringCoupling_(i, j) = forceScale_ * contacts_[size_t(j)].weight
+                                    * kernels::dot(&shapes_[size_t(i) * M_], &shapes_[size_t(j) * M_], M_);
+}
+
 void ModalSolver::updateCouplings()
 {
-    const auto& CW = compliance_.coupling();
+    const bool withCompliance = compliance_.active();
     for (int i = 0; i < P_; ++i)
         for (int j = 0; j < P_; ++j)
         {
-            const double a = stringCoupling_(i, j) + CW(i, j);
+            const double a = stringCoupling_(i, j) + (withCompliance ? compliance_.coupling()(i, j) : 0.0);
             pointCoupling_(i, j) = a / contacts_[j].weight;
             couplingScratch_(i, j) = a;
         }

@@ -97,7 +97,7 @@ struct ModalSolverConfig
     // sigma dt >> 1 can move (docs/design.md section 2, "The forcing of the fast modes"). The free
     // motion stays exact and the energy balance exact. Built as the same scheme in coordinates
     // p_p = q_p / sqrt(gamma_p): the contact shapes, pickups and excitation scaled by sqrt(gamma_p).
-    // Projection path only; the voice's retuning is refused.
+    // Projection path only. A retune forms the gains again and carries the motion over.
     bool staticExactForcing = false;
 };
 
@@ -353,6 +353,7 @@ private:
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void scaleByModes(double* values, int count) const;
+    void followStaticGains();  // RT: the static-exact forcing's gains at retuned coefficients
     void scaleByModes(std::vector<double>& values) const { scaleByModes(values.data(), int(values.size())); }
     // RT: q_p as the solver holds it (p_p = q_p / sqrt(gamma_p) with staticExactForcing).
     double toSolverCoordinate(int p, double q) const { return modeScale_.empty() ? q : q / modeScale_[size_t(p)]; }
@@ -397,6 +398,7 @@ private:
     StampedVector<char> coupled_;            // mode p touches some contact point
     StampedVector<double> excitationShape_;  // phi_p(x_e), all M modes (empty without excitation)
     std::vector<double> modeScale_;          // sqrt(gamma_p) with staticExactForcing, else empty
+    std::vector<double> gainRatio_;          // a retune's new sqrt(gamma_p) over the old (M values)
 
     // The prediction q~ = a q^n - e q^{n-1} (with an explicit force), and what the pickups read of it.
     ModalState state_;

@@ -73,6 +73,7 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
     if (config.staticExactForcing)
     {
         modeScale_.resize(size_t(M_));
+        gainRatio_.assign(size_t(M_), 1.0);
         for (int p = 0; p < M_; ++p)
             modeScale_[size_t(p)] = std::sqrt(staticForcingGain(omega_[p], sigma_[p], dt_));
     }
@@ -181,6 +182,8 @@ void ModalSolver::prepareContactMethods(const ModalSolverConfig& config, Eigen::
         //   = (b - kappa delta^{n-1}) + (A + kappa C W) f: the same equation with A + kappa C W.
         A += compliance_.coupling();
     }
+    else if (!modeScale_.empty())
+        couplingScratch_ = A;  // a retune forms A again (followStaticGains, updateCouplings)
     method_ = config.method;
     pointCoupling_ = A;
     for (int j = 0; j < P_; ++j)

@@ -65,6 +65,20 @@ void ModalState::compact(const std::vector<char>& coupled, const std::vector<dou
     c1_ = c2_ = 0.0;
 }
 
+void ModalState::rescaleModes(const double* ratio)
+{
+    tablesStamp_ = detail::nextTableStamp();
+    for (int i = 0; i < Ma_; ++i)
+    {
+        const double r = ratio[active_[i]];
+        q_[i] /= r;
+        qPrev_[i] /= r;
+        phiE_[i] *= r;
+        for (int j = 0; j < contactCount_; ++j)
+            phi_[size_t(j) * stride_ + i] *= r;
+    }
+}
+
 ModalState& ModalState::operator=(const ModalState& other)
 {
     if (this == &other)

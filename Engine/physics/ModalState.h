@@ -133,6 +133,9 @@ public:
     Layout layout() const { return layout_; }
     // RT: rewrites a paired layout as the single one.
     void toSingle();
+    // RT, single layout: each active mode's state divided by ratio[p] and its contact and excitation
+    // shapes multiplied by it (p = q / sqrt(gamma) after the static-exact forcing's gains change).
+    void rescaleModes(const double* ratio);
     // RT: the single layout read as the boundary of a pair (c1 = c2 = 0).
     void beginPairs();
     // RT: after kernels::pairStep; c1 the first step's correction.

@@ -49,6 +49,15 @@ void PickupReadout::setWeights(const std::vector<double>& omega, double scale)
     }
 }
 
+void PickupReadout::scaleConfigured(const double* ratio)
+{
+    if (!present())
+        return;
+    auto& base = base_.edit();
+    for (size_t p = 0; p < base.size(); ++p)
+        base[p] *= ratio[p];
+}
+
 // Point j's response sums h_p phi_p(x_j) mode by mode; the excitation's by kernels::dot.
 void PickupReadout::readForces(const Forces& forces)
 {

@@ -47,6 +47,9 @@ public:
     // RT: the weights in use for the modes' frequencies omega (rad/s): `scale` times the base ones,
     // split into the share read as the modes move (weights()) and the share read statically.
     void setWeights(const std::vector<double>& omega, double scale);
+    // RT: the configured weights, mode by mode, times ratio[p] (the static-exact forcing's new
+    // sqrt(gamma_p) over its old); setWeights() then applies them.
+    void scaleConfigured(const double* ratio);
     const std::vector<double>& weights() const { return weights_; }  // every mode (empty: no pickup)
 
     // OFF: the responses to a force at each point and at the excitation, with the weights over every mode.
