@@ -140,8 +140,6 @@ TEST_CASE("bad scenes are rejected with the field named")
          "simulation.contact_spacing: must be > 0"},
         {R"({"format": "jawari-scene/1", "simulation": {"method": "realtime", "extrapolate_rate": true}})",
          "simulation.extrapolate_rate: applies to the reference only"},
-        {R"({"format": "jawari-scene/1", "simulation": {"method": "realtime", "forcing": "static-exact"}})",
-         "simulation.forcing: \"static-exact\" applies to the reference only"},
         {R"({"format": "jawari-scene/1", "simulation": {"forcing": "static"}})", "simulation.forcing: "},
         {R"({"format": "jawari-scene/1", "simulation": {"contact_spacing": 0.6}})",
          "simulation.contact_spacing: must be between L/1e6 and L/2"},

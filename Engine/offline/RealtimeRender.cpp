@@ -42,6 +42,7 @@ VoiceConfig voiceConfigFor(const Scene& scene)
     v.hostRateHz = scene.simulation.outputRateHz;
     v.residualCompliance = scene.simulation.residualCompliance;
     v.residualComplianceLoss = scene.simulation.residualComplianceLoss;
+    v.staticExactForcing = scene.simulation.staticExactForcing;
     v.staticPickupAboveNyquist = scene.simulation.staticPickup;
     if (scene.simulation.contact == ContactMethod::energyConserving)
         v.reach = [scene](double x) { return reachAt(scene, x); };
@@ -131,6 +132,7 @@ VoiceConfig otherStringConfig(const Scene& scene, const BodyString& other, const
     v.hostRateHz = played.hostRateHz;
     v.residualCompliance = played.residualCompliance;
     v.residualComplianceLoss = played.residualComplianceLoss;
+    v.staticExactForcing = played.staticExactForcing;
     v.method = ContactMethod::energyConserving;
     v.ownDecimator = false;
     v.movingBridge = true;

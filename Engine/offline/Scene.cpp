@@ -206,8 +206,6 @@ void validateScene(const Scene& scene)
                                                 + std::to_string(sim.outputRateHz) + " Hz");
     if (sim.extrapolateRate && !sim.reference)
         throw SceneError("simulation.extrapolate_rate", "applies to the reference only");
-    if (sim.staticExactForcing && !sim.reference)
-        throw SceneError("simulation.forcing", "\"static-exact\" applies to the reference only");
     if ((sim.extrapolateRate ? 2.0 : 1.0) * rate * sim.durationSeconds > 1e13)
         throw SceneError("simulation.duration", "rate x duration is more than 1e13 steps");
     if (const auto spacing = sim.contactSpacingMetres; spacing && !(*spacing >= L * 1e-6 && *spacing <= 0.5 * L))

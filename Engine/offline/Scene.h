@@ -65,9 +65,9 @@ struct Simulation
     // The reference only: rendered at the rate and at twice it, the output 2 y(2R) - y(R) (Richardson's
     // extrapolation of an error first order in the step: a contact shorter than a step).
     bool extrapolateRate = false;
-    // The reference only: each mode answers a force by its static compliance where the paper's gain
-    // dt^2/mu is too much (ModalSolverConfig::staticExactForcing). A scene's "forcing": "paper" (the
-    // default) or "static-exact".
+    // Each mode answers a force by its static compliance where the paper's gain dt^2/mu is too much
+    // (ModalSolverConfig::staticExactForcing), in the reference or the voice. A scene's "forcing":
+    // "paper" (the default) or "static-exact".
     bool staticExactForcing = false;
     double durationSeconds = 1.0;
     int outputRateHz = 48000;

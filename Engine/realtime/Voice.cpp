@@ -134,6 +134,7 @@ ModalSolverConfig voiceSolverConfig(const VoiceConfig& config)
     c.excitationPosition = config.excitationPosition;
     c.releaseSigma = std::log(1000.0) / config.releaseSeconds;
     c.keepEveryMode = config.keepEveryMode;
+    c.staticExactForcing = config.staticExactForcing;
     if (config.secondPolarisation)
     {
         // The dropped modes' compliance at the obstacles' points stays what it is: the spring acts

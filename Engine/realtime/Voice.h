@@ -47,6 +47,9 @@ struct VoiceConfig
     // The dropped modes' static compliance in series with the contact (docs/design.md section 5). Off,
     // the voice is plain truncation (and equals the reference when M = N - 1).
     bool residualCompliance = true;
+    // Each mode answers a force by its exact static compliance (ModalSolverConfig::staticExactForcing);
+    // off, the paper's gain dt^2/mu for every mode.
+    bool staticExactForcing = false;
     // Its loss share theta (ModalSolverConfig::complianceLoss). Empty: residualComplianceLoss().
     std::optional<double> residualComplianceLoss;
     // The pickups read the modes above the host's Nyquist frequency by their static response to the
