@@ -201,7 +201,8 @@ struct LosslessRun
 
 // A scene's voice made lossless (a damped thread's damper too, unless kept), over its energy log (one
 // value a sample) for at least `steps` internal steps. A force pluck becomes the voice's triangle.
-LosslessRun losslessVoiceRun(Scene scene, bool residualCompliance, long steps, bool keepThreadDamper = false)
+LosslessRun losslessVoiceRun(Scene scene, bool residualCompliance, long steps, bool keepThreadDamper = false,
+                             bool staticExactForcing = false)
 {
     scene.string.damping.law = DampingLaw::none;
     if (!keepThreadDamper)
@@ -216,6 +217,7 @@ LosslessRun losslessVoiceRun(Scene scene, bool residualCompliance, long steps, b
     scene.simulation.contact = ContactMethod::energyConserving;
     scene.simulation.forgetConfiguration();
     scene.simulation.residualCompliance = residualCompliance;
+    scene.simulation.staticExactForcing = staticExactForcing;
     const auto quality = automaticQuality(scene);
     scene.simulation.durationSeconds = double(steps + 2 * quality.oversampling)
                                        / (quality.oversampling * scene.simulation.outputRateHz);
@@ -254,6 +256,15 @@ TEST_CASE("every scene made lossless keeps its voice's energy to 1e-9 over 1e5 s
             if (std::string(name) != "free-string.json")
                 CHECK(run.peakContactEnergy > 0.0);
         }
+    // The thread's strings as the plugin plays them, with the static-exact forcing (VoicePack.cpp).
+    for (bool compliance : {true, false})
+    {
+        const auto run = losslessVoiceRun(test::scene("tanpura-thread.json"), compliance, 100000, false, true);
+        INFO("tanpura-thread with the static-exact forcing,"
+             << (compliance ? " with" : " without") << " the residual compliance: largest |H - H0| / H0 " << run.drift);
+        CHECK(run.drift < 1e-9);
+        CHECK(run.peakContactEnergy > 0.0);
+    }
 }
 
 TEST_CASE("the residual compliance keeps what dropped modes that hardly decay would give back: DAFx-16's string at a "
