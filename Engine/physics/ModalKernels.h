@@ -351,4 +351,12 @@ inline void axpy(double c, const double* __restrict x, double* __restrict y, int
         y[p] += c * x[p];
 }
 
+// y_p *= f_p
+inline void scaleEach(const double* __restrict f, double* __restrict y, int M)
+{
+#pragma omp simd
+    for (int p = 0; p < M; ++p)
+        y[p] *= f[p];
+}
+
 }  // namespace jawari::kernels

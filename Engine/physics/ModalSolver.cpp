@@ -492,20 +492,12 @@ void ModalSolver::followStaticGains()
     state_.rescaleModes(gainRatio_.data());
     auto& shapes = shapes_.edit();
     for (int j = 0; j < P_ && !shapes.empty(); ++j)
-        for (int p = 0; p < M_; ++p)
-            shapes[size_t(j) * M_ + p] *= gainRatio_[size_t(p)];
+        scaleByModes(shapes.data() + size_t(j) * M_, M_, gainRatio_);
     if (!excitationShape_.empty())
-    {
-        auto& excitation = excitationShape_.edit();
-        for (int p = 0; p < M_; ++p)
-            excitation[size_t(p)] *= gainRatio_[size_t(p)];
-    }
+        scaleByModes(excitationShape_.edit().data(), M_, gainRatio_);
     for (auto& pickup : pickups_)
         pickup.scaleConfigured(gainRatio_.data());
-    for (int i = 0; i < P_; ++i)
-        for (int j = 0; j < P_; ++j)
-            stringCoupling_(i, j) = forceScale_ * contacts_[size_t(j)].weight
-                                    * kernels::dot(&shapes_[size_t(i) * M_], &shapes_[size_t(j) * M_], M_);
+    fillStringResponse(stringCoupling_);
 }
 
 void ModalSolver::updateCouplings()
@@ -567,7 +559,7 @@ void ModalSolver::displacementAt(const double* shapes, int count, double* out)
         for (int i = 0; i < state_.activeCount(); ++i)
         {
             const int p = state_.activeMode(i);
-            u += q[i] * shapes[size_t(k) * M_ + p] * (modeScale_.empty() ? 1.0 : modeScale_[size_t(p)]);
+            u += toModeCoordinate(p, q[i]) * shapes[size_t(k) * M_ + p];
         }
         out[k] = u;
     }

@@ -352,11 +352,20 @@ private:
     int solveSplines();
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
-    void scaleByModes(double* values, int count) const;
     void followStaticGains();  // RT: the static-exact forcing's gains at retuned coefficients
-    void scaleByModes(std::vector<double>& values) const { scaleByModes(values.data(), int(values.size())); }
-    // RT: q_p as the solver holds it (p_p = q_p / sqrt(gamma_p) with staticExactForcing).
+    // RT: count values over the modes, each times its mode's factor; unchanged when there are none.
+    static void scaleByModes(double* values, int count, const std::vector<double>& factors)
+    {
+        if (!factors.empty())
+            kernels::scaleEach(factors.data(), values, count);
+    }
+    // RT: q_p as the solver holds it (p_p = q_p / sqrt(gamma_p) with staticExactForcing), and back.
     double toSolverCoordinate(int p, double q) const { return modeScale_.empty() ? q : q / modeScale_[size_t(p)]; }
+    double toModeCoordinate(int p, double value) const
+    {
+        return modeScale_.empty() ? value : value * modeScale_[size_t(p)];
+    }
+    void fillStringResponse(Eigen::MatrixXd& A) const;  // RT on the projection path: A into A's storage
     void restartFromModes();                        // RT: the state derived from the modes (contact, pickup, delta, xi)
     void projectActive(const double* qActive, double* u) const;
     // sum_j w_j (psi_j at n + psi_j at n-1) / 2, the obstacles raised by `raise` at n and `raiseBefore` at n-1.

@@ -83,8 +83,8 @@ void ModalSolver::buildModeTables(const ModalSolverConfig& config)
     std::vector<double> first = config.pickupWeights;
     first.resize(M_, 0.0);  // the first pickup is always there (its weights may all be 0)
     std::vector<double> second = config.secondPickupWeights;
-    scaleByModes(first);
-    scaleByModes(second);
+    scaleByModes(first.data(), int(first.size()), modeScale_);
+    scaleByModes(second.data(), int(second.size()), modeScale_);
     pickups_[0].configure(first, M_, bandOmega, P_);
     pickups_[1].configure(second, M_, bandOmega, P_);
     for (auto& pickup : pickups_)
@@ -109,16 +109,11 @@ void ModalSolver::buildContactShapes(const ModalSolverConfig& config)
                 shapes[size_t(j) * M_ + p] = modeShape(config.lengthMetres, p + 1, contacts_[j].position);
     }
     if (!modeScale_.empty())
+    {
+        auto& shapes = shapes_.edit();
         for (int j = 0; j < P_; ++j)
-            scaleByModes(shapes_.edit().data() + size_t(j) * M_, M_);
-}
-
-// Values over the modes times sqrt(gamma_p) (staticExactForcing: what reads or pushes q_p = sqrt(gamma_p)
-// p_p); unchanged without it. An empty vector stays empty.
-void ModalSolver::scaleByModes(double* values, int count) const
-{
-    for (int p = 0; p < count && !modeScale_.empty(); ++p)
-        values[p] *= modeScale_[size_t(p)];
+            scaleByModes(shapes.data() + size_t(j) * M_, M_, modeScale_);
+    }
 }
 
 // A mode is coupled when some contact point, or the excitation point, sees it above rounding
@@ -146,7 +141,7 @@ void ModalSolver::markCoupledModes(const ModalSolverConfig& config)
             if (std::abs(excitationShape[p]) > couplingFloor)
                 coupled[p] = 1;
         }
-        scaleByModes(excitationShape.data(), M_);
+        scaleByModes(excitationShape.data(), M_, modeScale_);
     }
 }
 
@@ -162,11 +157,16 @@ Eigen::MatrixXd ModalSolver::stringResponse() const
             A(j, j) = forceScale_ * contacts_[j].weight / dx;
         return A;
     }
+    fillStringResponse(A);
+    return A;
+}
+
+void ModalSolver::fillStringResponse(Eigen::MatrixXd& A) const
+{
     for (int i = 0; i < P_; ++i)
         for (int j = 0; j < P_; ++j)
             A(i, j) = forceScale_ * contacts_[j].weight
                       * kernels::dot(&shapes_[size_t(i) * M_], &shapes_[size_t(j) * M_], M_);
-    return A;
 }
 
 // The residual compliance and the chosen contact method, on the coupling A (+ kappa C W).
@@ -289,9 +289,8 @@ void ModalSolver::takeMotionFrom(ModalSolver& other)
     {
         const int p = state_.activeMode(i);
         const int k = other.state_.indexOfMode(p);
-        const double scale = other.modeScale_.empty() ? 1.0 : other.modeScale_[size_t(p)];  // to q_p
-        state_.set(i, k >= 0 ? toSolverCoordinate(p, scale * q[k]) : 0.0,
-                   k >= 0 ? toSolverCoordinate(p, scale * qPrev[k]) : 0.0);
+        state_.set(i, k >= 0 ? toSolverCoordinate(p, other.toModeCoordinate(p, q[k])) : 0.0,
+                   k >= 0 ? toSolverCoordinate(p, other.toModeCoordinate(p, qPrev[k])) : 0.0);
     }
     restartFromModes();
 }

@@ -54,8 +54,7 @@ void PickupReadout::scaleConfigured(const double* ratio)
     if (!present())
         return;
     auto& base = base_.edit();
-    for (size_t p = 0; p < base.size(); ++p)
-        base[p] *= ratio[p];
+    kernels::scaleEach(ratio, base.data(), int(base.size()));
 }
 
 // Point j's response sums h_p phi_p(x_j) mode by mode; the excitation's by kernels::dot.
