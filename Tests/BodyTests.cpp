@@ -86,7 +86,7 @@ std::vector<BandSpectrum> bandSpectra(const std::vector<double>& p, double rateH
 }
 
 // Mean |P(f)|^2 over each band (the sum of |P(f)|^2 f dln(f) over the band's width), relative to band
-// `reference` (dB).
+// `reference` (dB; re 1 (Pa/N)^2 for reference -1).
 std::vector<double> measuredBandLevels(const std::vector<BandSpectrum>& spectra, const std::vector<BandLevel>& bands,
                                        int reference)
 {
@@ -98,10 +98,40 @@ std::vector<double> measuredBandLevels(const std::vector<BandSpectrum>& spectra,
             sum += std::norm(spectra[b].values[i]) * spectra[b].weights[i];
         levels.push_back(10.0 * std::log10(sum / (bands[b].highHz - bands[b].lowHz)));
     }
-    const double ref = levels[size_t(reference)];
+    const double ref = reference < 0 ? 0.0 : levels[size_t(reference)];
     for (double& l : levels)
         l -= ref;
     return levels;
+}
+
+// The band's mean |P(f)|^2 (dB re 1 (Pa/N)^2) summed here from the modes' own parameters, as the solver
+// answers a force impulse at `rateHz`: each mode's displacement per newton the paper's recurrence,
+// Z_k = (dt^2 / m_k) z^-1 / (1 - a_k z^-1 + e_k z^-2) with a_k = 2 exp(-sigma_k dt) cos(w_dk dt),
+// e_k = exp(-2 sigma_k dt), the pressure its reading's centred difference (z - z^-1) / 2dt weighted by
+// c_k, for the impulse 1/dt a step long (the DTFT times dt: the continuous spectrum's scale); on a grid
+// 1/64 of the narrowest peak's width apart.
+double modalSumBandLevel(const ModalBody& body, const BandLevel& band, double rateHz)
+{
+    double narrowest = 1.0;
+    for (const auto& m : body.modes)
+        narrowest = std::min(narrowest, m.sigma / (std::numbers::pi * m.frequencyHz));
+    const double ratio = 1.0 + narrowest / 64.0, dt = 1.0 / rateHz;
+    double sum = 0.0;
+    for (double f = band.lowHz; f < band.highHz; f *= ratio)
+    {
+        const std::complex<double> z = std::polar(1.0, 2.0 * std::numbers::pi * f * dt);
+        std::complex<double> Z = 0.0;
+        for (const auto& m : body.modes)
+        {
+            const double wk = 2.0 * std::numbers::pi * m.frequencyHz;
+            const double a = 2.0 * std::exp(-m.sigma * dt) * std::cos(std::sqrt(wk * wk - m.sigma * m.sigma) * dt);
+            const double e = std::exp(-2.0 * m.sigma * dt);
+            Z += m.radiation[0] * dt * dt / m.massKg / z / (1.0 - a / z + e / (z * z));
+        }
+        const std::complex<double> P = (z - 1.0 / z) / (2.0 * dt) * Z;
+        sum += std::norm(P) * f * std::log(ratio);
+    }
+    return 10.0 * std::log10(sum / (band.highHz - band.lowHz));
 }
 
 // How alike two responses are over bands from..to (inclusive): Re sum P1 conj(P2) / sqrt(sum |P1|^2
@@ -119,6 +149,22 @@ double correlationOver(const std::vector<BandSpectrum>& one, const std::vector<B
             second += w * std::norm(two[b].values[i]);
         }
     return cross / std::sqrt(first * second);
+}
+
+// How many modes a band's response is made of: each mode's share of the band's power at the centre
+// listener, c_k^2 / (m_k^2 sigma_k) (its peak's height (c_k / 2 m_k sigma_k)^2 times its width), as
+// (sum w)^2 / sum w^2.
+double effectiveModes(const ModalBody& body, const BandLevel& band)
+{
+    double sum = 0.0, squares = 0.0;
+    for (const auto& m : body.modes)
+        if (m.frequencyHz >= band.lowHz && m.frequencyHz < band.highHz)
+        {
+            const double w = m.radiation[0] * m.radiation[0] / (m.massKg * m.massKg * m.sigma);
+            sum += w;
+            squares += w * w;
+        }
+    return squares > 0.0 ? sum * sum / squares : 0.0;
 }
 
 Scene withTanpuraBody(Scene scene, PickupQuantity quantity)
@@ -167,8 +213,9 @@ EnergyRun referenceEnergy(Scene scene)
 }  // namespace
 
 TEST_CASE("The tanpura body's response from the bridge to the radiated sound follows DAFx-16's measured band "
-          "levels within 6 dB, and the sitar body's the same levels at the frequencies its smaller plate scales "
-          "them to, measured through the solver",
+          "levels within 1 dB, and the sitar body's the same levels at the frequencies its smaller plate scales "
+          "them to, measured through the solver; its level in Pa per N the modes' own sum's, and the reference "
+          "band the infinite plate's",
           "[body]")
 {
     for (const auto* recipe : {&tanpuraBodyRecipe(), &sitarBodyRecipe()})
@@ -178,18 +225,29 @@ TEST_CASE("The tanpura body's response from the bridge to the radiated sound fol
         const auto body = *factoryBody(recipe->name);
         const double rate = 96000.0;
         const auto p = bridgeImpulseResponse(body, rate, 2.0);
-        const auto levels = measuredBandLevels(bandSpectra(p, rate, recipe->bands, recipe->lossFactor), recipe->bands,
-                                               recipe->referenceBand);
+        const auto spectra = bandSpectra(p, rate, recipe->bands, recipe->lossFactor);
+        const auto levels = measuredBandLevels(spectra, recipe->bands, recipe->referenceBand);
+        const auto absolute = measuredBandLevels(spectra, recipe->bands, -1);
         REQUIRE(levels.size() >= 11);
         for (size_t b = 0; b < levels.size(); ++b)
         {
             const auto& band = recipe->bands[b];
+            const double modal = modalSumBandLevel(body, band, rate);
             INFO(recipe->name << " (" << body.modes.size() << " modes from " << body.modes.front().frequencyHz
                               << " Hz): " << band.lowHz << "-" << band.highHz << " Hz: " << levels[b] << " dB, wanted "
-                              << band.levelDb << " dB");
+                              << band.levelDb << " dB; " << absolute[b] << " dB re 1 Pa/N, the modes' sum "
+                              << modal << " dB");
             if (band.lowHz >= 0.999 * 80.0 * scale)
-                CHECK(std::abs(levels[b] - band.levelDb) < 6.0);
+                CHECK(std::abs(levels[b] - band.levelDb) < 1.0);  // the fit's promise (fitBands); measured 0.60
+            CHECK(std::abs(absolute[b] - modal) < 0.1);  // measured 0.024 dB
         }
+        // The reference band at the infinite plate's point-force radiation below coincidence,
+        // |p / F| = rho_air / (2 sqrt(2) pi r rho h) at r metres.
+        const double plate = 1.2 / (2.0 * std::sqrt(2.0) * std::numbers::pi * recipe->listenerMetres
+                                    * recipe->densityKgM3 * recipe->thicknessM);
+        INFO(recipe->name << ": the reference band " << absolute[size_t(recipe->referenceBand)]
+                          << " dB re 1 Pa/N, the infinite plate's " << 20.0 * std::log10(plate) << " dB");
+        CHECK(std::abs(absolute[size_t(recipe->referenceBand)] - 20.0 * std::log10(plate)) < 0.1);  // measured 0.012
     }
     // The sitar's plate, 0.32 m across against the tanpura's 0.40 m, has its modes (and so its
     // response's bands) higher by the ratio of their areas, 1.5625, and fewer of them below 13 kHz.
@@ -200,7 +258,7 @@ TEST_CASE("The tanpura body's response from the bridge to the radiated sound fol
     CHECK(factoryBody("sitar")->modes.size() < 0.7 * factoryBody("tanpura")->modes.size());
 }
 
-TEST_CASE("The tanpura body heard left and right of its measured listener: DAFx-16's band levels within 6 dB at "
+TEST_CASE("The tanpura body heard left and right of its measured listener: DAFx-16's band levels within 1 dB at "
           "each, the two alike where the plate is small beside the wavelength and apart above it, as a disc's "
           "directions are (van Cittert-Zernike), measured through the solver",
           "[body]")
@@ -224,16 +282,27 @@ TEST_CASE("The tanpura body heard left and right of its measured listener: DAFx-
             INFO(body.listeners[size_t(listener)] << " " << band.lowHz << "-" << band.highHz << " Hz: " << levels[b]
                                                   << " dB, measured " << band.levelDb << " dB");
             if (band.lowHz >= 80.0)
-                CHECK(std::abs(levels[b] - band.levelDb) < 6.0);
+                CHECK(std::abs(levels[b] - band.levelDb) < 1.0);  // each listener fitted (fitBands)
         }
     }
+    // Each band's left-right correlation is a sample over its modes of the disc's: within three of
+    // its standard errors, (1 - r^2) / sqrt(N - 1) over the band's N effective modes (a band of one or
+    // two modes has no such statistic; the lowest bands' sum is checked below).
+    int sampled = 0;
     for (size_t b = 0; b < recipe.bands.size(); ++b)
     {
         const auto& band = recipe.bands[b];
-        WARN(band.lowHz << "-" << band.highHz << " Hz: left-right " << correlationOver(spectra[1], spectra[2], b, b)
-                        << " (the disc's " << directionCorrelation(std::sqrt(band.lowHz * band.highHz), radius, apart)
-                        << "), centre-left " << correlationOver(spectra[0], spectra[1], b, b));
+        const double disc = directionCorrelation(std::sqrt(band.lowHz * band.highHz), radius, apart);
+        const double leftRight = correlationOver(spectra[1], spectra[2], b, b);
+        const double n = effectiveModes(body, band);
+        INFO(band.lowHz << "-" << band.highHz << " Hz (" << n << " effective modes): left-right " << leftRight
+                        << ", the disc's " << disc << "; centre-left " << correlationOver(spectra[0], spectra[1], b, b));
+        if (n < 3.0)
+            continue;
+        ++sampled;
+        CHECK(std::abs(leftRight - disc) < 3.0 * (1.0 - disc * disc) / std::sqrt(n - 1.0) + 0.01);
     }
+    CHECK(sampled >= 6);  // 800 Hz to 12.5 kHz
     // 50-200 Hz (the disc's 0.96-0.99) and 2-12.5 kHz (below 0.05 in magnitude), each band's modes
     // weighted by their power.
     const double low = correlationOver(spectra[1], spectra[2], 0, 2);
@@ -360,6 +429,21 @@ TEST_CASE("A scene's body is read and checked, bad input named", "[body][scene]"
     refused(R"("body": {"model": "tanpura", "obstacles": [0.5]}})", "body.obstacles[0]: must be an obstacle's index");
     refused(R"("body": {"modes": [{"frequency": 200, "mass": -1}]}})", "body.modes[0].mass: must be > 0");
     refused(R"("body": {"modes": [{"frequency": 200}]}})", "body.modes[0].mass: is required");
+    refused(R"("body": {"obstacles": [1e20], "model": "tanpura"}})", "body.obstacles[0]: no obstacle 1e+20");
+    // Every number within the range both methods play (ModalBody.h), the range named.
+    refused(R"("body": {"modes": [{"frequency": 200, "mass": 0.2, "damping": 1e200}]}})",
+            "body.modes[0].damping: must be within [0, 1256.64] /s");
+    refused(R"("body": {"modes": [{"frequency": 200, "mass": 0.2}, {"frequency": 2e5, "mass": 0.2}]}})",
+            "body.modes[1].frequency: must be within (0, 100000] Hz (got 200000)");
+    refused(R"("body": {"modes": [{"frequency": 200, "mass": 1e-300}]}})",
+            "body.modes[0].mass: must be within [1e-09, 1e+06] kg");
+    refused(R"("body": {"modes": [{"frequency": 200, "mass": 0.2, "radiation": -1e30}]}})",
+            "body.modes[0].radiation: must be within +-1e+06 Pa s/m");
+    refused(R"("body": {"model": "tanpura", "coupling": 1e12}})", "body.coupling: must be within [0, 100]");
+    refused(R"("body": {"model": "tanpura", "damping_scale": 1e308}})",
+            "body.damping_scale: must be within [0, 100] for this body");
+    refused(R"("body": {"modes": [{"frequency": 200, "mass": 0.2, "damping": 600}], "damping_scale": 3}})",
+            "body.damping_scale: must be within [0, 2.0943951");
     refused(R"("body": {"model": "tanpura", "strings": [{"string": {"tension": -1}}]}})",
             "body.strings[0].string.tension: must be > 0");
     refused(R"("body": {"model": "tanpura", "strings": [{"strings": {}}]}})", "body.strings[0].strings: unknown field");
@@ -431,8 +515,10 @@ TEST_CASE("The voice through the tanpura body against the reference, on the pres
           "distance",
           "[body]")
 {
-    // The radiated sound, LSD and band envelope in dB at the voice's automatic quality, as measured at
-    // the commit that added them (docs/measurements.md, "The voice through the body"), within 25 %.
+    // The radiated sound, LSD and band envelope in dB at the voice's automatic quality: within the
+    // quality table's 3 dB (the tanpura's scenes; the sitar's point, which the body's lifted buzz band
+    // takes beyond it, within 6 dB until the voice is fixed there), and as measured (docs/measurements.md,
+    // "The voice through the body") within 3 %, a regression guard.
     struct Case
     {
         const char* scene;
@@ -454,8 +540,9 @@ TEST_CASE("The voice through the tanpura body against the reference, on the pres
                   << voice.stats.cpuSeconds << " CPU s, reference " << reference.stats.cpuSeconds << " CPU s: LSD "
                   << figures.lsd << " dB, envelope " << figures.envelope << " dB, centroid " << figures.centroid
                   << ", relL2 " << figures.relL2);
-        CHECK(figures.lsd == Approx(lsd).epsilon(0.25));
-        CHECK(figures.envelope == Approx(envelope).epsilon(0.25));
+        CHECK(figures.lsd < (std::string(name) == "sitar-point.json" ? 6.0 : 3.0));
+        CHECK(figures.lsd == Approx(lsd).epsilon(0.03));
+        CHECK(figures.envelope == Approx(envelope).epsilon(0.03));
     }
 }
 

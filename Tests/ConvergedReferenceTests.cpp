@@ -50,8 +50,9 @@ void checkStoredIsRender(const std::string& name)
 }
 }  // namespace
 
-// About nine, three and half a CPU minute (machine F): run by hand after anything that may move the reference
-// (jawari-plugin-tests "[converged]").
+// About nine, three and half a CPU minute (machine F): parabola-bridge's, the cheapest, runs with every
+// test; the other two by hand after anything that may move the reference (jawari-plugin-tests
+// "[converged]", docs/validation.md).
 TEST_CASE("the stored converged reference is the sitar-bridge scene's own render", "[.][converged]")
 {
     checkStoredIsRender("sitar-bridge");
@@ -62,7 +63,7 @@ TEST_CASE("the stored converged reference is the tanpura-thread scene's own rend
     checkStoredIsRender("tanpura-thread");
 }
 
-TEST_CASE("the stored converged reference is the parabola-bridge scene's own render", "[.][converged]")
+TEST_CASE("the stored converged reference is the parabola-bridge scene's own render", "[converged]")
 {
     checkStoredIsRender("parabola-bridge");
 }

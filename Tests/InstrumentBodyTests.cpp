@@ -71,13 +71,16 @@ TEST_CASE("Through the tanpura body a softly plucked note grows for half a secon
           "[instrument][body]")
 {
     // The soft pluck is DAFx-16's push; its sound reaches the listener as the bridge wakes the high
-    // partials the body radiates. Measured: 0.75 s soft, 0.03 s sharp; on rigid supports the
-    // pickup's envelope peaks at 0.05 s after the same push.
+    // partials the body radiates. DAFx-16's measured tanpura peaks at about 0.6 s (their Fig. 8);
+    // measured here: 0.73 s soft, 0.03 s sharp; on rigid supports the pickup's envelope peaks at
+    // 0.05 s after the same push.
     const double soft = test::envelopePeakSeconds(tanpuraNote(BodyChoice::tanpura, PluckStyle::soft, 1.0), 48000);
     const double sharp = test::envelopePeakSeconds(tanpuraNote(BodyChoice::tanpura, PluckStyle::sharp, 1.0), 48000);
     const double rigid = test::envelopePeakSeconds(tanpuraNote(BodyChoice::none, PluckStyle::soft, 1.0), 48000);
     INFO("the envelope peaks at " << soft << " s soft, " << sharp << " s sharp, " << rigid << " s on rigid supports");
-    CHECK(soft > 0.3);
+    CHECK(soft > 0.4);  // the measured instrument's growth, within a third of its 0.6 s
+    CHECK(soft < 0.8);
+    CHECK(soft == Approx(0.73).epsilon(0.05));  // as measured
     CHECK(sharp < 0.1);
     CHECK(rigid < 0.1);
 }
@@ -103,8 +106,11 @@ TEST_CASE("The body's mix crossfades the radiated sound and the pickup linearly,
                                                  << " dB, its pickup " << pickupLevel << " dB");
     CHECK(largest < 1e-6 * peak);  // float output
     CHECK(apart > 0.1 * peak);     // two different sounds
+    // The body's modes are heavy beside the string: its pickup moves by a fraction of a dB (measured
+    // 0.18 dB); the radiated sound is normalised to the pickup's level within 6 dB (measured -4.49).
+    CHECK(std::abs(pickupLevel) < 0.5);
     CHECK(std::abs(level) < 6.0);
-    CHECK(std::abs(pickupLevel) < 6.0);
+    CHECK(level == Approx(-4.49).margin(0.25));  // as measured
 }
 
 TEST_CASE("Driven one way the body still sounds, within 6 dB of the two-way body", "[instrument][body]")
@@ -125,6 +131,62 @@ TEST_CASE("Driven one way the body still sounds, within 6 dB of the two-way body
     const double level = 20.0 * std::log10(rms(radiated(true)) / rms(radiated(false)));
     INFO("one way against two way: " << level << " dB");
     CHECK(std::abs(level) < 6.0);
+    CHECK(level == Approx(4.05).margin(0.2));  // as measured
+}
+
+TEST_CASE("Driven one way, the strings on the body move as the same solvers alone on rigid supports, to the "
+          "last bit, while the body is driven",
+          "[instrument][body]")
+{
+    // Two packs alike: one steps its strings on its body one way, the other steps the same solvers
+    // alone. Four strings retuned apart and plucked from their shapes (no pulse), the tanpura's
+    // point bridge, and the Sitar's 23-point bridge with its 13 sympathetic strings (split after the
+    // played strings, as the instrument steps them).
+    for (auto structure : {tanpuraStructure(BodyChoice::tanpura, PluckStyle::sharp), test::sitarStructure(13)})
+    {
+        structure.bodyOneWay = true;
+        auto onBody = buildVoicePack(structure), alone = buildVoicePack(structure);
+        REQUIRE(onBody->body);
+        REQUIRE(onBody->body->oneWay());
+        constexpr int kStrings = 4;
+        const double ratios[kStrings] = {1.0, 1.5, 2.0, 0.75};
+        std::vector<ModalSolver*> shared, own;
+        for (auto* pack : {onBody.get(), alone.get()})
+        {
+            auto& list = pack == onBody.get() ? shared : own;
+            for (int i = 0; i < kStrings; ++i)
+            {
+                Voice& v = *pack->voices[size_t(i)];
+                pack->retuner.retune(v, ratios[i], InstrumentControls{}, 1.0);
+                v.pluckFromShape(1.5e-3 * (1.0 + 0.1 * i));
+                list.push_back(&v.solver());
+            }
+            for (auto& t : pack->sympathetic)
+                list.push_back(&t->solver());
+        }
+        const int count = int(shared.size());
+        long differing = 0, pressing = 0;
+        double heard = 0.0;
+        for (long n = 0; n < 20000; ++n)
+        {
+            onBody->body->step(shared.data(), count, kStrings);
+            for (auto* solver : own)
+                solver->step();
+            for (int i = 0; i < count; ++i)
+                differing += shared[size_t(i)]->pickup() != own[size_t(i)]->pickup() ? 1 : 0;
+            pressing += onBody->body->lastBridgeForce() != 0.0 ? 1 : 0;
+            heard = std::max(heard, std::abs(onBody->body->pressure(0)));
+        }
+        long stateDiffers = 0;
+        for (int i = 0; i < count; ++i)
+            stateDiffers += shared[size_t(i)]->modalState() != own[size_t(i)]->modalState() ? 1 : 0;
+        INFO(count << " strings: " << differing << " pickup samples differ, " << stateDiffers
+                   << " final states differ; " << pressing << " steps pressing the bridge, pressure up to " << heard);
+        CHECK(differing == 0);
+        CHECK(stateDiffers == 0);
+        CHECK(pressing > 1000);
+        CHECK(heard > 0.0);  // the body is driven
+    }
 }
 
 TEST_CASE("Without a body the mix is ignored: the pickup plays bit for bit", "[instrument][body]")
@@ -269,7 +331,8 @@ TEST_CASE("Through the body the Sitar's strings leave out the bridge points they
     INFO("live share of the points through the body " << onBody);
     CHECK(finite);
     CHECK(onBody > 0.0);
-    CHECK(onBody < 0.8);  // measured 0.732
+    CHECK(onBody < 0.8);
+    CHECK(onBody == Approx(0.667).epsilon(0.05));  // as measured
 }
 
 TEST_CASE("Through the body a lowered voice limit takes the strings above it away without a click",
@@ -298,4 +361,44 @@ TEST_CASE("Through the body a lowered voice limit takes the strings above it awa
     CHECK(instrument.activeStrings() == 1);
     CHECK(fade < 1.5 * normal);
     CHECK(rms(lowered) > 0.0);
+}
+
+TEST_CASE("The body changed while notes sound takes the strings' motion without a burst", "[instrument][body]")
+{
+    // Four notes sounding through one body (or none), then a pack with another installed (the same
+    // body twice as damped, for the same), carrying the strings' motion as the plugin's builder does.
+    // The output's peak over the 20 ms after the change against the larger of the 50 ms before and
+    // the 50 ms from 0.1 s after (where the new body's sound has settled).
+    const BodyChoice bodies[] = {BodyChoice::none, BodyChoice::tanpura, BodyChoice::sitar};
+    for (const double mix : {0.0, 1.0})
+        for (const auto from : bodies)
+            for (const auto to : bodies)
+            {
+                if (from == BodyChoice::none && to == BodyChoice::none)
+                    continue;
+                auto structure = tanpuraStructure(from, PluckStyle::sharp);
+                auto before = buildVoicePack(structure);
+                structure.body = to;
+                if (from == to)
+                    structure.bodyDamping *= 2.0;
+                auto after = buildVoicePack(structure);
+                Instrument instrument;
+                test::start(instrument, *before, mixAndWidth(mix, 0.0));
+                for (int note : {48, 55, 60, 64})
+                    instrument.noteOn(note, 1.0);
+                const auto played = test::playLeft(instrument, 0.3);
+                instrument.install(after.get(), before.get());
+                const auto changed = test::playLeft(instrument, 0.15);
+                auto peakOf = [](const std::vector<double>& y, size_t from, size_t to) {
+                    double p = 0.0;
+                    for (size_t n = from; n < to; ++n)
+                        p = std::max(p, std::abs(y[n]));
+                    return p;
+                };
+                const double was = peakOf(played, played.size() - 2400, played.size());
+                const double now = peakOf(changed, 0, 960), settled = peakOf(changed, 4800, 7200);
+                INFO("mix " << mix << ", body " << int(from) << " to " << int(to) << ": peak " << was
+                            << " before, " << now << " over the 20 ms after, " << settled << " from 0.1 s");
+                CHECK(now < 1.5 * std::max(was, settled));
+            }
 }

@@ -202,3 +202,49 @@ TEST_CASE("prepareToPlay returns before the slowest pack is built, and the instr
     CHECK(o.peak > 1e-3);
     CHECK(p.getLatencySamples() > 0);
 }
+
+TEST_CASE("The Body parameters automated to their extremes at audio rate never trip the runaway guard",
+          "[plugin][robustness][body]")
+{
+    // The Body mix, tuning and damping jump between their ends every 32-sample block (1.5 kHz), the
+    // body itself changes every 250 blocks (none, tanpura, sitar: new packs from the builder thread),
+    // and a fortissimo note starts every 25 blocks, through the Sitar (13 sympathetic strings) and the
+    // Tanpura drone.
+    for (const char* preset : {"Sitar", "Tanpura drone"})
+    {
+        JawariAudioProcessor p;
+        p.setCurrentProgram(factoryPresetIndex(preset));
+        p.parameters().getParameter(ids::quality)->setValueNotifyingHost(0.0f);
+        p.prepareToPlay(48000.0, 32);
+        REQUIRE(p.waitForBuilds(60000));
+        const char* automated[] = {ids::bodyMix, ids::bodyTuning, ids::bodyDamping};
+        juce::AudioBuffer<float> buffer(2, 32);
+        bool finite = true;
+        double peak = 0.0;
+        for (int b = 0; b < 8 * 48000 / 32; ++b)
+        {
+            for (size_t i = 0; i < std::size(automated); ++i)
+                p.parameters().getParameter(automated[i])->setValueNotifyingHost(float((b + int(i)) % 2));
+            if (b % 250 == 0)
+                p.parameters().getParameter(ids::body)->setValueNotifyingHost(float((b / 250) % 3) / 2.0f);
+            juce::MidiBuffer midi;
+            if (b % 25 == 0)
+                midi.addEvent(juce::MidiMessage::noteOn(1, 48 + (b / 25) % 24, juce::uint8(127)), 0);
+            buffer.clear();
+            p.processBlock(buffer, midi);
+            for (int c = 0; c < 2; ++c)
+                for (int i = 0; i < 32; ++i)
+                {
+                    finite = finite && std::isfinite(buffer.getSample(c, i));
+                    peak = std::max(peak, double(std::abs(buffer.getSample(c, i))));
+                }
+        }
+        INFO(preset << ": peak " << peak << ", packs installed " << p.packsInstalled() << ", runaways "
+                    << p.instrument().blowUps());
+        CHECK(finite);
+        CHECK(p.instrument().blowUps() == 0);
+        CHECK(p.packsInstalled() > 10);  // the body really changed under the notes
+        CHECK(peak > 1e-3);
+        CHECK(p.problem().isEmpty());
+    }
+}

@@ -731,7 +731,8 @@ struct WorkerCounts
 };
 
 TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, automation and a new pack, on one core "
-          "or two, on rigid supports or through the body with sympathetic strings retuned and switched",
+          "or two, on rigid supports or through the body with sympathetic strings retuned and switched, the body "
+          "changed under them",
           "[plugin]")
 {
     for (const bool secondCore : {false, true})
@@ -757,7 +758,7 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
         setParameter(p, ids::obstaclePosition, 0.3f);
         REQUIRE(p.waitForBuilds());
         const long before = p.packsInstalled();
-        long counted = 0;
+        long counted = 0, tasksBefore160 = 0;
         // Keys pressed on the editor's keyboard between blocks (the message thread's work, not counted).
         auto pressKey = [&](int note, bool down) {
             test::countAllocationsOnThisThread(false);
@@ -800,6 +801,16 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
                     REQUIRE(p.waitForBuilds());
                     test::countAllocationsOnThisThread(true);
                 }
+                if (b == 160)
+                    tasksBefore160 = worker.tasks.load();
+                if ((b == 140 || b == 160) && body)  // another body, then none: the motion carried across
+                {
+                    test::countAllocationsOnThisThread(false);
+                    setParameter(p, ids::body, b == 140 ? 2.0f : 0.0f);
+                    REQUIRE(p.waitForBuilds());
+                    test::countAllocationsOnThisThread(true);
+                    midi.addEvent(juce::MidiMessage::noteOn(1, 50, juce::uint8(100)), 0);
+                }
                 p.processBlock(buffer, midi);
             }
             counted = test::allocations;
@@ -809,7 +820,9 @@ TEST_CASE("processBlock never allocates: notes, the editor's keyboard, bends, au
                                                 << worker.counts.allocations.load());
         CHECK(counted == 0);
         CHECK(worker.counts.allocations.load() == 0);
-        CHECK((worker.tasks.load() > 0) == (secondCore && !body));  // a body's strings step in lockstep, on this thread
+        // A body's strings step in lockstep, on this thread; taken off it at 160, they go to the worker.
+        CHECK((tasksBefore160 > 0) == (secondCore && !body));
+        CHECK((worker.tasks.load() > 0) == secondCore);
         CHECK(p.packsInstalled() > before);
     }
 }

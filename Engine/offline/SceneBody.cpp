@@ -168,15 +168,59 @@ std::vector<int> readBodyObstacles(ObjectReader& r, const Scene& scene)
         return indices;
     }
     const auto numbers = r.numbers("obstacles");
+    const double count = double(scene.obstacles.size());
     for (size_t i = 0; i < numbers.size(); ++i)
     {
         const double v = numbers[i];
+        const std::string here = r.at("obstacles") + "[" + std::to_string(i) + "]";
         if (v != std::floor(v) || v < 0.0)
-            throw SceneError(r.at("obstacles") + "[" + std::to_string(i) + "]",
-                             "must be an obstacle's index (a whole number >= 0), got " + show(v));
+            throw SceneError(here, "must be an obstacle's index (a whole number >= 0), got " + show(v));
+        if (v >= count)  // checked as a double: no conversion of a number beyond int's range
+            throw SceneError(here, "no obstacle " + show(v) + " (the scene has " + show(count) + ")");
         indices.push_back(int(v));
     }
     return indices;
+}
+
+// The body's modes checked against their ranges (ModalBody.h), each error at the mode's field.
+void checkBodyModes(const ModalBody& body)
+{
+    try
+    {
+        validateBody(body);
+    }
+    catch (const BodyRangeError& e)
+    {
+        const std::string what = e.what(), field = e.field;
+        throw SceneError("body.modes[" + std::to_string(e.mode) + "]." + field,
+                         what.substr(std::min(what.size(), what.find(field + " ") + field.size() + 1)));
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw SceneError("body.listeners", e.what());
+    }
+}
+
+// Every mode's damping scaled (0: a lossless body, for the energy balance), up to critical damping.
+void scaleBodyDamping(ObjectReader& r, ModalBody& body)
+{
+    const double scale = r.nonNegative("damping_scale", 1.0), largest = largestDampingScale(body);
+    if (scale > largest)
+        throw SceneError(r.at("damping_scale"), "must be within [0, " + show(largest)
+                                                    + "] for this body: beyond it its most damped mode is damped "
+                                                      "past critical (got " + show(scale) + ")");
+    for (auto& mode : body.modes)
+        mode.sigma *= scale;
+}
+
+double readCoupling(ObjectReader& r, double fallback)
+{
+    const double c = r.nonNegative("coupling", fallback);
+    if (c > kBodyStrongestCoupling)
+        throw SceneError(r.at("coupling"), "must be within [0, " + show(kBodyStrongestCoupling)
+                                               + "]: it makes each mode coupling^2 lighter at the bridge (got "
+                                               + show(c) + ")");
+    return c;
 }
 }  // namespace
 
@@ -199,12 +243,10 @@ SceneBody readBody(const json& value, const Scene& scene)
         body.body.listeners = readListeners(r);
         body.body.modes = readBodyModes(r.raw("modes"), r.at("modes"), body.body.listeners.size());
     }
-    // Every mode's damping scaled (0: a lossless body, for the energy balance).
-    const double dampingScale = r.nonNegative("damping_scale", 1.0);
-    for (auto& mode : body.body.modes)
-        mode.sigma *= dampingScale;
+    checkBodyModes(body.body);
+    scaleBodyDamping(r, body.body);
     body.obstacles = readBodyObstacles(r, scene);
-    body.coupling = r.nonNegative("coupling", body.coupling);
+    body.coupling = readCoupling(r, body.coupling);
     if (r.has("strings"))
     {
         const json& strings = r.raw("strings");
@@ -257,16 +299,10 @@ void validateSceneBody(const Scene& scene)
             throw SceneError("simulation.method", "other strings on the body take the default method (\"realtime\") "
                                                   "or the reference");
     }
-    try
-    {
-        validateBody(body.body);
-    }
-    catch (const std::invalid_argument& e)
-    {
-        throw SceneError("body.modes", e.what());
-    }
-    if (!(std::isfinite(body.coupling) && body.coupling >= 0.0))
-        throw SceneError("body.coupling", "must be finite and >= 0 (got " + show(body.coupling) + ")");
+    checkBodyModes(body.body);
+    if (!(body.coupling >= 0.0 && body.coupling <= kBodyStrongestCoupling))
+        throw SceneError("body.coupling", "must be within [0, " + show(kBodyStrongestCoupling) + "] (got "
+                                              + show(body.coupling) + ")");
 }
 
 }  // namespace jawari::scene_reading

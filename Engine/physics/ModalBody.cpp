@@ -2,13 +2,27 @@
 
 #include "physics/StringModel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <iomanip>
+#include <limits>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 namespace jawari
 {
+namespace
+{
+// A number in a message: up to six significant digits.
+std::string shortNumber(double v)
+{
+    std::ostringstream s;
+    s << std::setprecision(6) << v;
+    return s.str();
+}
+}  // namespace
 
 int listenerIndex(const ModalBody& body, const std::string& name)
 {
@@ -31,25 +45,39 @@ void validateBody(const ModalBody& body)
     for (size_t k = 0; k < body.modes.size(); ++k)
     {
         const auto& m = body.modes[k];
-        const std::string which = "mode " + std::to_string(k) + ": ";
-        if (!(std::isfinite(m.frequencyHz) && m.frequencyHz > 0.0))
-            throw std::invalid_argument(which + "its frequency must be finite and > 0 Hz");
-        if (!(std::isfinite(m.sigma) && m.sigma >= 0.0))
-            throw std::invalid_argument(which + "its damping must be finite and >= 0 /s");
-        if (!(std::isfinite(m.massKg) && m.massKg > 0.0))
-            throw std::invalid_argument(which + "its mass must be finite and > 0 kg");
+        auto refuse = [&](const char* field, const std::string& range) {
+            throw BodyRangeError(int(k), field, "mode " + std::to_string(k) + ": its " + field + " must be " + range);
+        };
+        if (!(m.frequencyHz > 0.0 && m.frequencyHz <= kBodyHighestHz))
+            refuse("frequency", "within (0, " + shortNumber(kBodyHighestHz) + "] Hz (got " + shortNumber(m.frequencyHz) + ")");
+        const double critical = 2.0 * std::numbers::pi * m.frequencyHz;
+        if (!(m.sigma >= 0.0 && m.sigma <= critical))
+            refuse("damping", "within [0, " + shortNumber(critical) + "] /s, up to critical damping 2 pi frequency (got "
+                                  + shortNumber(m.sigma) + ")");
+        if (!(m.massKg >= kBodyLightestKg && m.massKg <= kBodyHeaviestKg))
+            refuse("mass", "within [" + shortNumber(kBodyLightestKg) + ", " + shortNumber(kBodyHeaviestKg) + "] kg (got "
+                               + shortNumber(m.massKg) + ")");
         for (size_t l = 0; l < m.radiation.size(); ++l)
         {
-            if (!std::isfinite(m.radiation[l]))
-                throw std::invalid_argument(which + "its radiation weights must be finite");
+            if (!(std::abs(m.radiation[l]) <= kBodyLoudestRadiation))
+                refuse("radiation", "within +-" + shortNumber(kBodyLoudestRadiation) + " Pa s/m (got "
+                                        + shortNumber(m.radiation[l]) + ")");
             if (l >= names.size() && m.radiation[l] != 0.0)
-                throw std::invalid_argument(which + "a radiation weight for listener " + std::to_string(l)
-                                            + ", which the body does not have");
+                refuse("radiation", "0 for listener " + std::to_string(l) + ", which the body does not have");
         }
         for (const double r : m.correlation)
             if (!(r >= -1.0 && r <= 1.0))
-                throw std::invalid_argument(which + "its listeners' correlations must be within [-1, 1]");
+                refuse("correlation", "within [-1, 1]");
     }
+}
+
+double largestDampingScale(const ModalBody& body)
+{
+    double largest = std::numeric_limits<double>::infinity();
+    for (const auto& m : body.modes)
+        if (m.sigma > 0.0)
+            largest = std::min(largest, 2.0 * std::numbers::pi * m.frequencyHz / m.sigma);
+    return largest;
 }
 
 namespace

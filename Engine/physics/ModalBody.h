@@ -24,6 +24,7 @@
 #include "physics/ModalSolver.h"
 
 #include <array>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -101,8 +102,41 @@ struct BodyResponse
 };
 BodyResponse bodyResponse(const ModalBody& body, double frequencyHz, int listener = 0);
 
-// Checks a body's modes (finite, frequency > 0, sigma >= 0, mass > 0) and listeners (1 to
-// kMostListeners, named, no name twice); throws std::invalid_argument naming the mode and the value.
+// The ranges within which a body plays, in the reference and in the voice alike (docs/scenes.md):
+// - a mode rings: 0 < f <= kBodyHighestHz (far above hearing and any body's measured response), and
+//   its damping at most critical, sigma <= omega (past it the mode is no resonance: a mode fitted to a
+//   measured response, a pair of complex poles -sigma +- i w_d, always has sigma < omega);
+// - its mass at the bridge between kBodyLightestKg (a microgram: lighter than any string's metre) and
+//   kBodyHeaviestKg, and the coupling at most kBodyStrongestCoupling (a body 1e4 times lighter at the
+//   bridge than described): the coupling c makes each mode c^2 lighter, and its contact rows grow as
+//   c sqrt(mu/m_k) until the body's part of the contact system swamps the string's within a double's
+//   rounding and the solve no longer resolves the string (measured on the paper's string at 6 mm: both
+//   methods play 1e-14 kg at the bridge; the voice runs away at 1e-21, the tanpura body at c = 1e10);
+// - its radiation weights |c_k| <= kBodyLoudestRadiation Pa s/m (a plane wave's rho c is 413).
+inline constexpr double kBodyHighestHz = 1e5;
+inline constexpr double kBodyLightestKg = 1e-9;
+inline constexpr double kBodyHeaviestKg = 1e6;
+inline constexpr double kBodyStrongestCoupling = 100.0;
+inline constexpr double kBodyLoudestRadiation = 1e6;
+
+// A body's mode out of its range: which mode, which field (its name in a scene: "frequency",
+// "damping", "mass", "radiation", "correlation"), and what its range is.
+struct BodyRangeError : std::invalid_argument
+{
+    BodyRangeError(int modeIndex, std::string fieldName, const std::string& what)
+        : std::invalid_argument(what), mode(modeIndex), field(std::move(fieldName))
+    {
+    }
+    int mode;
+    std::string field;
+};
+
+// Checks a body's modes (each within the ranges above) and listeners (1 to kMostListeners, named,
+// no name twice); throws BodyRangeError for a mode, std::invalid_argument for the listeners.
 void validateBody(const ModalBody& body);
+
+// The largest factor every mode's damping may be scaled by and stay within critical damping
+// (infinity for a lossless body).
+double largestDampingScale(const ModalBody& body);
 
 }  // namespace jawari

@@ -81,6 +81,41 @@ void SharedBody::silence()
     reach_.chooseAgain();  // the bridge's jump to rest may bring the strings' obstacles nearer
 }
 
+void SharedBody::takeMotionFrom(const SharedBody& other)
+{
+    if (other.banked_ || banked_)
+        return;  // a bank holds the sympathetic strings' state between a chunk's steps only
+    reach_.chooseAgain();
+    if (a_ == other.a_ && e_ == other.e_ && push_ == other.push_)
+    {
+        std::copy(other.z_.begin(), other.z_.end(), z_.begin());
+        std::copy(other.zPrevious_.begin(), other.zPrevious_.end(), zPrevious_.begin());
+        std::copy(other.zPart_.begin(), other.zPart_.end(), zPart_.begin());
+        std::copy(other.zPartPrevious_.begin(), other.zPartPrevious_.end(), zPartPrevious_.begin());
+        force_ = other.force_;
+        playedForce_ = other.playedForce_;
+        bridge_ = other.bridge_;
+        bridgeBefore_ = other.bridgeBefore_;
+        pressure_ = other.pressure_;
+        partPressure_ = other.partPressure_;
+        return;
+    }
+    silence();
+    double stiffness = 0.0;  // 1 / sum_j kappa_j^2 c_j
+    for (size_t k = 0; k < z_.size(); ++k)
+        stiffness += kappa_[k] * kappa_[k] / (2.0 * potential_[k]);
+    if (!(stiffness > 0.0))
+        return;  // nothing reaches this body: its bridge never moves
+    for (size_t k = 0; k < z_.size(); ++k)
+    {
+        const double share = kappa_[k] / (2.0 * potential_[k]) / stiffness;
+        z_[k] = share * other.bridge_;
+        zPrevious_[k] = share * other.bridgeBefore_;
+    }
+    bridge_ = other.bridge_;
+    bridgeBefore_ = other.bridgeBefore_;
+}
+
 double SharedBody::bodyEnergy() const
 {
     double sum = 0.0;

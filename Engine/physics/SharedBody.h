@@ -124,6 +124,12 @@ public:
     // RT: whether the last step was solved again with every point live (BodyReach).
     bool lastResolved() const { return resolved_; }
     void silence();                                    // RT: every mode at rest
+    // RT: a body built anew takes the motion of the one it replaces (a pack rebuilt while the strings
+    // sound): the same body (the same modes, coupling and step) its whole state; another, only the
+    // bridge's displacement at n and n-1, spread over its modes by their static compliance
+    // (z_k = w kappa c_k / sum_j kappa^2 c_j, c_k = 1 / (m_k C2_k)), so the strings pressing on the
+    // bridge find it where it was. No allocation.
+    void takeMotionFrom(const SharedBody& other);
 
 private:
     double solveForce(ModalSolver* const* strings, int from, int to, double before, double bridge);

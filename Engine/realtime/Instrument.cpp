@@ -33,12 +33,14 @@ void Instrument::install(VoicePack* pack, VoicePack* previous)
     blowUpsAtInstall_ = packBlowUps();
     ++activity_.packsInstalled;
     dampingDirty_ = true;
-    strings_.install(*pack, carry);
+    // Strings leaving a body for rigid supports find their obstacles where its bridge stood.
+    const bool offBody = carry && previous->body && !pack->body;
+    strings_.install(*pack, carry, offBody ? previous->body->bridgeDisplacement() : 0.0);
     sympathetic_.install(*pack, carry);
     if (pack->body && !carry)
-    {
         pack->body->silence();
-    }
+    else if (pack->body && previous->body)
+        pack->body->takeMotionFrom(*previous->body);
 }
 
 void Instrument::noteOn(int note, double velocity, int channel)
@@ -103,6 +105,7 @@ void Instrument::followExpression(int count, double rate)
 {
     const bool bendSettled = expression_.followBend(1.0 - std::exp(-count / (0.005 * rate)));
     strings_.retuneSounding(dampingDirty_, bendSettled);
+    strings_.relaxCarriedBridge(count, rate);
     sympathetic_.follow(dampingDirty_);
     dampingDirty_ = false;
     expression_.clearMoves();

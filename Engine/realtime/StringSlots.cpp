@@ -11,6 +11,8 @@ constexpr double kFadeSeconds = 0.005;  // a stolen string fades out over this
 constexpr int kRetuneChunks = 4;        // a moving bend retunes every 4 chunks (128 samples)
 constexpr double kPluckMetresPerVelocity = 1.5e-3 * 127.0 / 100.0;  // MIDI velocity 100: 1.5 mm
 constexpr double kDronePans[kDroneStrings] = {-0.6, -0.2, 0.2, 0.6};
+constexpr double kBridgeReturnSeconds = 0.005;  // a carried bridge's glide to rest
+constexpr double kBridgeAtRestMetres = 1e-12;   // below this the glide ends
 }  // namespace
 
 StringSlots::StringSlots(const SmoothedControls& controls, const NoteExpression& expression,
@@ -23,9 +25,10 @@ StringSlots::StringSlots(const SmoothedControls& controls, const NoteExpression&
         slots_[size_t(kMidiVoices + i)].pan = kDronePans[i];
 }
 
-void StringSlots::install(VoicePack& pack, bool carry)
+void StringSlots::install(VoicePack& pack, bool carry, double bridge)
 {
     pack_ = &pack;
+    carriedBridge_ = carry ? bridge : 0.0;
     fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * pack.structure.hostRateHz)));
     for (int i = 0; i < kSlots; ++i)
     {
@@ -92,7 +95,17 @@ double StringSlots::pitchNow(int slot) const
 
 double StringSlots::heightOf(int slot) const
 {
-    return expression_.heightOf(controls_.current().obstacleHeight, slots_[size_t(slot)].channel);
+    return expression_.heightOf(controls_.current().obstacleHeight, slots_[size_t(slot)].channel) + carriedBridge_;
+}
+
+void StringSlots::relaxCarriedBridge(int count, double rate)
+{
+    if (carriedBridge_ == 0.0)
+        return;
+    carriedBridge_ *= std::exp(-count / (kBridgeReturnSeconds * rate));
+    if (std::abs(carriedBridge_) < kBridgeAtRestMetres)
+        carriedBridge_ = 0.0;
+    applyContact();
 }
 
 double StringSlots::ratioFor(double pitch) const

@@ -39,8 +39,10 @@ public:
     StringSlots(const SmoothedControls& controls, const NoteExpression& expression, InstrumentActivity& activity);
 
     // A new pack's voices; with `carry` each string keeps sounding, else all fall silent. Every
-    // string is retuned and pressed for it.
-    void install(VoicePack& pack, bool carry);
+    // string is retuned and pressed for it. `bridge` (m): where the bridge stood under strings
+    // carried off a body onto rigid supports; their obstacles start there and glide to rest
+    // (relaxCarriedBridge), so the strings pressing on it are not struck by its jump.
+    void install(VoicePack& pack, bool carry, double bridge = 0.0);
     StringSlot& operator[](int slot) { return slots_[size_t(slot)]; }
     const StringSlot& operator[](int slot) const { return slots_[size_t(slot)]; }
     Voice& voice(int slot) { return *pack_->voices[size_t(slot)]; }
@@ -66,6 +68,9 @@ public:
     // the contact after a pressure moved.
     void retuneSounding(bool dampingChanged, bool bendSettled);
     void applyContact();  // every voice's contact law and height, from the controls
+    // RT, once a chunk of `count` host samples at `rate`: the carried bridge's offset relaxed
+    // towards rest (time constant kBridgeReturnSeconds), the contact applied again while it moves.
+    void relaxCarriedBridge(int count, double rate);
     int sounding() const;
 
 private:
@@ -80,6 +85,7 @@ private:
     int fadeLength_ = 1;
     uint64_t clock_ = 0;       // the newest start's age
     uint64_t chunkClock_ = 0;  // chunks since construction, for the retunes' pace
+    double carriedBridge_ = 0.0;  // the obstacles' offset from a body the strings left (m)
 };
 
 }  // namespace jawari
