@@ -56,12 +56,18 @@ std::string hex(uint64_t v)
     return text;
 }
 
+// A hash not yet taken on this build (kNotTaken): printed, to be stored by the next change made on
+// such a build, and checked there from then on.
+constexpr uint64_t kNotTaken = 0;
+
 void checkHash(const char* what, uint64_t actual, uint64_t expected)
 {
     INFO(what << ": " << hex(actual) << ", stored " << hex(expected));
-    if (!kHashesApply)
+    if (!kHashesApply || expected == kNotTaken)
     {
-        WARN(what << ": " << hex(actual) << " (not checked: hashes are of the plain Release build, GCC 12, AVX-512)");
+        WARN(what << ": " << hex(actual)
+                  << (kHashesApply ? " (not checked: not yet taken on this build)"
+                                   : " (not checked: hashes are of the plain Release build, GCC 12, AVX-512)"));
         return;
     }
     CHECK(actual == expected);
@@ -183,9 +189,10 @@ TEST_CASE("The voice renders both paper scenes bit for bit as stored, with every
 
 TEST_CASE("The instrument plays a script bit for bit as stored, on each obstacle shape", JAWARI_CHECKSUM_TAGS)
 {
-    checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0xebdf86df8e824afcull);
+    // Taken on an AVX512-FP16 Xeon; the bridge's and the frets' on the other build wait for one.
+    checkHash("instrument, point", hashInstrument(ObstacleShape::point), 0x98cd7263d5df4836ull);
     checkHash("instrument, parabola", hashInstrument(ObstacleShape::parabola),
-              kFp16XeonBuild ? 0x1756d0019439d4bfull : 0xf19947b904c9c207ull);
+              kFp16XeonBuild ? 0x58b40680970c6f43ull : kNotTaken);
     checkHash("instrument, frets", hashInstrument(ObstacleShape::frets),
-              kFp16XeonBuild ? 0x4117fb338e6bf72dull : 0x4a115bb81ca0b168ull);
+              kFp16XeonBuild ? 0x8e47b7bc19783841ull : kNotTaken);
 }

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <complex>
 #include <deque>
+#include <memory>
 #include <numbers>
 #include <numeric>
 #include <sstream>
@@ -670,4 +671,85 @@ TEST_CASE("Two strings on one bridge, mistuned: their normal modes lock in pitch
     // formula's 0.87 for a resistive bridge).
     const auto beyond = check(2.0, 0.05);
     CHECK(std::abs(beyond[0].real() - beyond[1].real()) < 0.1 * c.real());
+}
+
+TEST_CASE("Four strings configured as the plugin's and the 13 sympathetic strings on one body, made lossless, keep "
+          "their discrete energy to 1e-9 over 1e5 steps, the sympathetic strings banked as the instrument steps "
+          "them or each in its own solver",
+          "[sympathetic][body][energy]")
+{
+    // The Sitar's string and bridge with a rigid thread: the voice's own configuration (the residual
+    // compliance, the static pickup above the host's Nyquist frequency, the static-exact forcing),
+    // each string retuned to its own pitch and plucked from its shape; the taraf at rest, tuned to
+    // Kafi from Sa at C#3. Every string's damping and the body's at 0.
+    auto structure = test::sitarStructure(kMaxSympatheticStrings);
+    structure.thread = true;
+    structure.threadModel = ThreadModel::contact;
+    structure.bodyDamping = 0.0;
+    VoiceConfig played = instrumentVoiceConfig(structure);
+    REQUIRE(played.staticExactForcing);
+    REQUIRE(played.residualCompliance);
+    REQUIRE(played.oversampling > 1);  // the static pickup reads the modes above the host's band
+    played.string.damping.law = DampingLaw::none;
+    const auto quality = instrumentQuality(structure);
+    const auto body = instrumentBody(structure);
+    REQUIRE(body);
+    for (const bool banked : {true, false})
+    {
+        std::vector<std::unique_ptr<Voice>> voices;
+        const double ratios[kDroneStrings] = {0.75, 1.0, 1.26, 0.5};
+        for (int i = 0; i < kDroneStrings; ++i)
+        {
+            auto& v = *voices.emplace_back(std::make_unique<Voice>(played));
+            const std::vector<double> none(size_t(v.solver().modeCount()), 0.0);
+            v.retune(ratios[i], none.data());
+            v.pluckFromShape(1.5e-3 * (1.0 + 0.1 * i));
+        }
+        for (int k = 0; k < kMaxSympatheticStrings; ++k)
+        {
+            auto c = sympatheticVoiceConfig(quality, structure.hostRateHz);
+            c.string = sympatheticStringAt(138.59 * std::pow(2.0, sympatheticSemitones(k, SympatheticScale::kafi) / 12.0));
+            c.string.damping.law = DampingLaw::none;
+            voices.push_back(std::make_unique<Voice>(c));
+        }
+        std::vector<ModalSolver*> solvers;
+        for (auto& v : voices)
+            solvers.push_back(&v->solver());
+        SharedBody shared(*body, 1.0, solvers[0]->timeStep());
+        const int count = int(solvers.size()), chunk = kChunkSamples * quality.oversampling;
+        for (int i = 0; i < count; ++i)
+            i < kDroneStrings ? shared.check(*solvers[size_t(i)]) : shared.checkLinear(*solvers[size_t(i)]);
+        const double H0 = shared.energy(solvers.data(), count);
+        double drift = 0.0;
+        long pressing = 0, chunksBanked = 0;
+        for (long n = 0; n < 100000; n += chunk)
+        {
+            const bool bank = banked && shared.bankLinear(solvers.data(), kDroneStrings, count);
+            chunksBanked += bank ? 1 : 0;
+            for (int k = 0; k < chunk; ++k)
+            {
+                shared.step(solvers.data(), count, kDroneStrings);
+                bool anyPressing = false;  // a played string on its bridge or its thread
+                for (int i = 0; i < kDroneStrings; ++i)
+                    for (int j = 0; j < solvers[size_t(i)]->contactCount(); ++j)
+                        anyPressing = anyPressing || solvers[size_t(i)]->contactForce(j) != 0.0;
+                pressing += anyPressing ? 1 : 0;
+                if (!bank)
+                    drift = std::max(drift, std::abs(shared.energy(solvers.data(), count) / H0 - 1.0));
+            }
+            if (bank)
+                shared.unbankLinear(solvers.data());
+            drift = std::max(drift, std::abs(shared.energy(solvers.data(), count) / H0 - 1.0));
+        }
+        double taraf = 0.0;
+        for (int i = kDroneStrings; i < count; ++i)
+            taraf += solvers[size_t(i)]->stringEnergy();
+        INFO((banked ? "banked" : "each in its own solver") << ": largest |H - H0| / H0 " << drift << ", the taraf "
+                                                             << taraf / H0 << " of H0, " << pressing
+                                                             << " steps a played string pressing, " << chunksBanked << " chunks banked");
+        CHECK(drift < 1e-9);
+        CHECK(pressing > 10000);
+        CHECK(taraf > 1e-6 * H0);  // the body moved them
+        CHECK((chunksBanked > 0) == banked);
+    }
 }

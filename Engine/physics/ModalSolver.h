@@ -238,11 +238,20 @@ public:
     // share of h_p q_p): a held shape's part that the first sample leaves out.
     double pickupAboveBand(bool second = false) const;
 
+    // How a retune carries a sounding string's motion: its state (q^n, q^{n-1}) as it is (a string
+    // just given new coefficients, its motion already at them), or each mode's action, its energy over
+    // its frequency, at its phase (a string whose tension moves while it sounds: keepModeActions).
+    enum class RetuneMotion
+    {
+        keepState,
+        keepActions
+    };
     // RT: new frequencies and damping for every mode (omega, sigma: M values each, rad/s and 1/s),
     // the residual compliance scaled by `complianceScale` from the configured one (1/r^2 when every
-    // frequency is scaled by r) and the pickup weights by `pickupScale`. The state (q^n, q^{n-1})
-    // carries over. No allocation.
-    void retune(const double* omega, const double* sigma, double complianceScale, double pickupScale = 1.0);
+    // frequency is scaled by r) and the pickup weights by `pickupScale`, the motion carried as
+    // `motion` says. No allocation.
+    void retune(const double* omega, const double* sigma, double complianceScale, double pickupScale = 1.0,
+                RetuneMotion motion = RetuneMotion::keepState);
     // RT: the law and height of contact point j (the obstacle's automation). No allocation (the
     // quadratic-spline method rebuilds its knots within their reserved capacity: ContactSpline).
     void setContact(int j, const ContactLaw& law, double height);
@@ -353,6 +362,7 @@ private:
     void fullState(std::vector<double>& current, std::vector<double>& previous) const;
     double previousAtRest(int p, double q0) const;  // RT: q^{-1} of mode p released from q0 at rest
     void followStaticGains();  // RT: the static-exact forcing's gains at retuned coefficients
+    bool keepModeActions(const double* omega, const double* sigma);  // RT: a retune's motion (retune())
     // RT: count values over the modes, each times its mode's factor; unchanged when there are none.
     static void scaleByModes(double* values, int count, const std::vector<double>& factors)
     {

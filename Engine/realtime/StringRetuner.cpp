@@ -12,7 +12,8 @@ StringRetuner::StringRetuner(const StringParameters& string, int modes)
     , sigma_(size_t(modes), 0.0)
 {}
 
-void StringRetuner::retune(Voice& voice, double ratio, const InstrumentControls& controls, double dampingFactor)
+void StringRetuner::retune(Voice& voice, double ratio, const InstrumentControls& controls, double dampingFactor,
+                           ModalSolver::RetuneMotion motion)
 {
     string_.tensionNewtons = builtTension_ * ratio * ratio;  // B stays: EI scales with T
     string_.damping.etaAir = DampingParameters{}.etaAir * std::max(controls.airScale, 0.0);
@@ -26,7 +27,7 @@ void StringRetuner::retune(Voice& voice, double ratio, const InstrumentControls&
         sigma_[p] =
             scale * dampingCurveAt(controls.dampingCurve, fp) * std::numbers::pi * fp * valetteInverseQ(string_, fp);
     }
-    voice.retune(ratio, sigma_.data());
+    voice.retune(ratio, sigma_.data(), motion);
 }
 
 }  // namespace jawari

@@ -21,8 +21,10 @@ public:
 
     // Retunes voice to ratio: mode p at f_p = r f_p(built) gets the damping
     // sigma_p = s * curve(f_p) * pi f_p / Q(f_p), Q Valette's at the controls' constants and s the
-    // decay scale times `dampingFactor` (the note's slide). RT.
-    void retune(Voice& voice, double ratio, const InstrumentControls& controls, double dampingFactor);
+    // decay scale times `dampingFactor` (the note's slide); the motion carried as `motion` says
+    // (Voice::retune). RT.
+    void retune(Voice& voice, double ratio, const InstrumentControls& controls, double dampingFactor,
+                ModalSolver::RetuneMotion motion = ModalSolver::RetuneMotion::keepState);
 
 private:
     StringParameters string_;  // the built string; its tension and damping constants rewritten per retune

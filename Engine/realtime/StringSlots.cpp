@@ -114,11 +114,11 @@ double StringSlots::ratioFor(double pitch) const
     return f / pack_->baseFundamentalHz;
 }
 
-void StringSlots::retune(int slot)
+void StringSlots::retune(int slot, ModalSolver::RetuneMotion motion)
 {
     ++activity_.retunes;
     const auto& s = slots_[size_t(slot)];
-    pack_->retuner.retune(voice(slot), s.ratio, controls_.current(), expression_.dampingOf(s.channel));
+    pack_->retuner.retune(voice(slot), s.ratio, controls_.current(), expression_.dampingOf(s.channel), motion);
 }
 
 void StringSlots::retuneSounding(bool dampingChanged, bool bendSettled)
@@ -135,7 +135,7 @@ void StringSlots::retuneSounding(bool dampingChanged, bool bendSettled)
         if (dampingChanged || expression_.slideMoved(s.channel) || (pitchMoved && due))
         {
             s.ratio = wanted;
-            retune(i);
+            retune(i, ModalSolver::RetuneMotion::keepActions);
         }
     }
     if (expression_.pressureMoved())

@@ -74,7 +74,8 @@ public:
     int sounding() const;
 
 private:
-    void retune(int slot);
+    // The string in `slot` to its ratio; a sounding one keeps its modes' actions (ModalSolver::retune).
+    void retune(int slot, ModalSolver::RetuneMotion motion = ModalSolver::RetuneMotion::keepState);
     ContactLaw contactLaw() const;
 
     const SmoothedControls& controls_;

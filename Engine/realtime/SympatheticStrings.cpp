@@ -172,7 +172,7 @@ void SympatheticStrings::follow(bool dampingChanged)
         if (allDue || wanted != pitch_[size_t(k)])
         {
             pitch_[size_t(k)] = wanted;
-            retune(k);
+            retune(k, ModalSolver::RetuneMotion::keepActions);
         }
     }
 }
@@ -185,7 +185,7 @@ double SympatheticStrings::wantedPitch(int k) const
                             controls_.target().keyPitches);
 }
 
-void SympatheticStrings::retune(int k)
+void SympatheticStrings::retune(int k, ModalSolver::RetuneMotion motion)
 {
     const auto& c = controls_.current();
     // The ratio whose loaded pitch r f(1) loading(r) is the note's: a few fixed-point steps.
@@ -193,7 +193,7 @@ void SympatheticStrings::retune(int k)
     double ratio = wanted;
     for (int step = 0; step < 4; ++step)
         ratio = wanted / loadingAt(pack_->sympatheticLoading, ratio);
-    pack_->sympatheticRetuner.retune(voice(k), ratio, c, damping_);
+    pack_->sympatheticRetuner.retune(voice(k), ratio, c, damping_, motion);
 }
 
 double SympatheticStrings::energy(int k) const

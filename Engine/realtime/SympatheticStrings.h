@@ -70,7 +70,7 @@ public:
 
 private:
     double wantedPitch(int k) const;
-    void retune(int k);
+    void retune(int k, ModalSolver::RetuneMotion motion = ModalSolver::RetuneMotion::keepState);
 
     const SmoothedControls& controls_;
     VoicePack* pack_ = nullptr;

@@ -410,7 +410,7 @@ void Voice::takeMotionFrom(Voice& other)
         raiseCeiling();
 }
 
-void Voice::retune(double ratio, const double* sigma)
+void Voice::retune(double ratio, const double* sigma, ModalSolver::RetuneMotion motion)
 {
     const double previous = ratio_;
     ratio_ = ratio;
@@ -423,7 +423,7 @@ void Voice::retune(double ratio, const double* sigma)
         damping[p] = string ? sigma[p] : baseSigma_[p];
     }
     const double pickupScale = quantity_ == PickupQuantity::force ? ratio * ratio : 1.0;
-    solver_.retune(omegaScratch_.data(), sigmaScratch_.data(), 1.0 / (ratio * ratio), pickupScale);
+    solver_.retune(omegaScratch_.data(), sigmaScratch_.data(), 1.0 / (ratio * ratio), pickupScale, motion);
     pickupCompliance_ = std::max(solver_.pickupCompliance(), solver_.pickupCompliance(true));
     // The same motion at a higher pitch holds more energy (the tension works): the ceiling follows.
     energyCeiling_ *= std::max(1.0, (ratio * ratio) / (previous * previous));

@@ -174,8 +174,10 @@ public:
     // RT: every string mode's frequency scaled by `ratio` from the configured string (the note's pitch:
     // tension and bending stiffness scaled together, so the inharmonicity B stays), and the damping
     // sigma (1/s, at least the string's modes' values) given for the new frequencies. The residual
-    // compliance follows (1/r^2). A body's modes keep their own.
-    void retune(double ratio, const double* sigma);
+    // compliance follows (1/r^2). A body's modes keep their own. `motion`: as ModalSolver::retune
+    // (keepActions for a string whose pitch moves while it sounds).
+    void retune(double ratio, const double* sigma,
+                ModalSolver::RetuneMotion motion = ModalSolver::RetuneMotion::keepState);
     double tuningRatio() const { return ratio_; }
     // The configured modes' frequencies (Hz), before any retune.
     const std::vector<double>& baseFrequencies() const { return baseFrequencyHz_; }

@@ -287,6 +287,12 @@ void setOutputLevels(VoicePack& pack)
 }
 }  // namespace
 
+VoiceConfig instrumentVoiceConfig(const InstrumentStructure& requested)
+{
+    const InstrumentStructure structure = playableStructure(requested);
+    return voiceConfig(structure, instrumentString(structure), instrumentQuality(structure));
+}
+
 std::unique_ptr<VoicePack> buildVoicePack(const InstrumentStructure& requested)
 {
     const InstrumentStructure structure = playableStructure(requested);

@@ -33,6 +33,9 @@ std::optional<SecondPolarisation> instrumentSecondPolarisation(const InstrumentS
 VoiceQuality instrumentQuality(const InstrumentStructure& s);
 // The structure's body (FactoryBodies.h) with its tuning and damping, or none. OFF.
 std::optional<ModalBody> instrumentBody(const InstrumentStructure& s);
+// The played strings' voice configuration as buildVoicePack gives it (the structure taken as
+// playableStructure makes it): its string, obstacles, quality, forcing and pickup. OFF.
+VoiceConfig instrumentVoiceConfig(const InstrumentStructure& structure);
 // The soft pluck's push (PluckStyle::soft): DAFx-16's shape over kPushSeconds, spread over half the
 // string, kPushNewtons towards the obstacles at full velocity.
 ForcePluck instrumentPush(const InstrumentStructure& s);
