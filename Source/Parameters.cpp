@@ -1,9 +1,9 @@
 #include "Parameters.h"
 
 #include "ParameterText.h"
-#include "physics/ContactMethod.h"
-#include "realtime/Quality.h"
-#include "realtime/VoicePack.h"
+#include "physics/contact/ContactMethod.h"
+#include "realtime/voice/Quality.h"
+#include "realtime/instrument/VoicePack.h"
 
 #include <algorithm>
 #include <cmath>

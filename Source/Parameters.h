@@ -3,7 +3,7 @@
 // the engine's InstrumentStructure (rebuilt off the audio thread) and InstrumentControls (applied
 // on the audio thread, smoothed).
 
-#include "realtime/InstrumentSettings.h"
+#include "realtime/instrument/InstrumentSettings.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 

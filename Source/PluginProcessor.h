@@ -12,9 +12,9 @@
 
 #include "KeyboardInput.h"
 #include "Parameters.h"
-#include "realtime/Instrument.h"
-#include "realtime/LockFreeExchange.h"
-#include "realtime/PlayableStructure.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/instrument/LockFreeExchange.h"
+#include "realtime/instrument/PlayableStructure.h"
 
 #include <juce_audio_processors/juce_audio_processors.h>
 

@@ -4,10 +4,10 @@
 #include "SharedBodySupport.h"
 #include "TestSupport.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "physics/SharedBody.h"
-#include "physics/StringDiscretisation.h"
-#include "physics/StringModel.h"
+#include "physics/body/FactoryBodies.h"
+#include "physics/body/SharedBody.h"
+#include "physics/string/StringDiscretisation.h"
+#include "physics/string/StringModel.h"
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>

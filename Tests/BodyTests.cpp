@@ -5,11 +5,11 @@
 
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "physics/ModalBody.h"
-#include "physics/SharedBody.h"
-#include "physics/StringDiscretisation.h"
-#include "realtime/SympatheticStrings.h"
+#include "physics/body/FactoryBodies.h"
+#include "physics/body/ModalBody.h"
+#include "physics/body/SharedBody.h"
+#include "physics/string/StringDiscretisation.h"
+#include "realtime/sympathetic/SympatheticStrings.h"
 
 #include <catch2/catch.hpp>
 

@@ -15,7 +15,7 @@
 #include "TestSupport.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "realtime/Instrument.h"
+#include "realtime/instrument/Instrument.h"
 
 #include <catch2/catch.hpp>
 

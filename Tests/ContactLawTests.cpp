@@ -1,9 +1,9 @@
 // The regularised contact law, its discrete gradient and the safeguarded Newton (docs/design.md section 2).
 
-#include "physics/ContactLanes.h"
-#include "physics/ContactSpline.h"
-#include "physics/ContactLaw.h"
-#include "physics/ContactSystem.h"
+#include "physics/contact/ContactLanes.h"
+#include "physics/contact/ContactSpline.h"
+#include "physics/contact/ContactLaw.h"
+#include "physics/contact/ContactSystem.h"
 
 #include <catch2/catch.hpp>
 

@@ -11,8 +11,8 @@
 #include "TestSupport.h"
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
-#include "physics/StringModel.h"
-#include "realtime/Quality.h"
+#include "physics/string/StringModel.h"
+#include "realtime/voice/Quality.h"
 
 #include <catch2/catch.hpp>
 

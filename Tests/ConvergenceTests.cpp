@@ -6,7 +6,7 @@
 #include "TestSupport.h"
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
-#include "realtime/Quality.h"
+#include "realtime/voice/Quality.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,13 +1,13 @@
-// The coupled string's normal modes (Engine/physics/RankOneEigen.h, Polarisations.h): the
+// The coupled string's normal modes (Engine/physics/string/RankOneEigen.h, Polarisations.h): the
 // eigenpairs of Omega^2 + (K/mu) r r^T from the secular equation agree with a dense symmetric
 // eigensolver's, are orthonormal to working precision, and each eigenvalue is the secular
 // equation's root to a few ulps (which the dense solver, accurate to eps |A| only, is not for the
 // low modes); the deflations (a spring at a node, equal frequencies) keep all of it.
 
 #include "TestSupport.h"
-#include "physics/Polarisations.h"
-#include "physics/RankOneEigen.h"
-#include "physics/StringDiscretisation.h"
+#include "physics/string/Polarisations.h"
+#include "physics/string/RankOneEigen.h"
+#include "physics/string/StringDiscretisation.h"
 
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>

@@ -1,7 +1,7 @@
 // The voice's decimator, measured by running tones through it (docs/design.md section 2), against
 // its specification: flat to 20 kHz within 0.1 dB at 48 kHz, aliasing at least 90 dB down, latency stated.
 
-#include "realtime/Decimator.h"
+#include "realtime/voice/Decimator.h"
 
 #include <catch2/catch.hpp>
 

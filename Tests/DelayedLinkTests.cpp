@@ -8,8 +8,8 @@
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "physics/SharedBody.h"
+#include "physics/body/FactoryBodies.h"
+#include "physics/body/SharedBody.h"
 
 #include <catch2/catch.hpp>
 

@@ -2,8 +2,8 @@
 // the solver's tolerance, and dissipated exactly as the balance says with them.
 
 #include "TestSupport.h"
-#include "physics/ModalSolver.h"
-#include "physics/StringDiscretisation.h"
+#include "physics/modes/ModalSolver.h"
+#include "physics/string/StringDiscretisation.h"
 
 #include <catch2/catch.hpp>
 

@@ -3,8 +3,8 @@
 
 #include "TestSupport.h"
 #include "offline/Analysis.h"
-#include "realtime/Instrument.h"
-#include "realtime/Voice.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/voice/Voice.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,10 +1,10 @@
 // The string's modal table and the exact per-mode update (docs/design.md sections 1 and 2).
 
 #include "TestSupport.h"
-#include "physics/ExactOscillator.h"
-#include "physics/ModalSolver.h"
-#include "physics/StringDiscretisation.h"
-#include "physics/StringModel.h"
+#include "physics/modes/ExactOscillator.h"
+#include "physics/modes/ModalSolver.h"
+#include "physics/string/StringDiscretisation.h"
+#include "physics/string/StringModel.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,9 +1,9 @@
 // Whatever the plugin's parameters hold, the pack is built from a structure the physics accepts
-// (Engine/realtime/PlayableStructure.h): random structures, their edges and values that are not
+// (Engine/realtime/instrument/PlayableStructure.h): random structures, their edges and values that are not
 // numbers, through the real builder, each played for a moment.
 
-#include "realtime/Instrument.h"
-#include "realtime/PlayableStructure.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/instrument/PlayableStructure.h"
 
 #include <catch2/catch.hpp>
 

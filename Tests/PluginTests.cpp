@@ -11,8 +11,8 @@
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "realtime/Voice.h"
+#include "physics/body/FactoryBodies.h"
+#include "realtime/voice/Voice.h"
 
 #include <catch2/catch.hpp>
 

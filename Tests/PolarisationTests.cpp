@@ -1,13 +1,13 @@
-// Two polarisations (Engine/physics/Polarisations.h): the discrete energy of the whole string,
+// Two polarisations (Engine/physics/string/Polarisations.h): the discrete energy of the whole string,
 // coupling spring included, is conserved without losses and never rises with them, whatever the
 // coupling; the horizontal polarisation, excited only through the coupling, takes its energy from
 // the vertical; uncoupled, the vertical moves exactly as the one-polarisation string.
 
 #include "TestSupport.h"
-#include "physics/ModalSolver.h"
-#include "physics/Polarisations.h"
-#include "physics/StringDiscretisation.h"
-#include "realtime/Instrument.h"
+#include "physics/modes/ModalSolver.h"
+#include "physics/string/Polarisations.h"
+#include "physics/string/StringDiscretisation.h"
+#include "realtime/instrument/Instrument.h"
 
 #include <catch2/catch.hpp>
 

@@ -5,8 +5,8 @@
 
 #include "TestSupport.h"
 #include "offline/Scene.h"
-#include "physics/StringDiscretisation.h"
-#include "realtime/Voice.h"
+#include "physics/string/StringDiscretisation.h"
+#include "realtime/voice/Voice.h"
 
 #include <catch2/catch.hpp>
 
@@ -117,7 +117,7 @@ TEST_CASE("Voice process and pluck and release and takeMotionFrom never allocate
     }
 }
 
-#include "realtime/LockFreeExchange.h"
+#include "realtime/instrument/LockFreeExchange.h"
 
 #include <thread>
 
@@ -181,7 +181,7 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
     CHECK(freed == taken);  // every voice the audio thread replaced came back and was freed here
 }
 
-#include "realtime/Instrument.h"
+#include "realtime/instrument/Instrument.h"
 
 TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
 {
@@ -282,7 +282,7 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
 }
 
 #include "LockCounter.h"
-#include "realtime/StringWorker.h"
+#include "realtime/instrument/StringWorker.h"
 
 #include <mutex>
 

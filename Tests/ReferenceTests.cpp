@@ -3,7 +3,7 @@
 
 #include "TestSupport.h"
 #include "offline/OfflineRender.h"
-#include "physics/ModalSolver.h"
+#include "physics/modes/ModalSolver.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,11 +1,11 @@
-// The second core (Engine/realtime/StringWorker.h): a voice's copy steps as the voice, and the
+// The second core (Engine/realtime/instrument/StringWorker.h): a voice's copy steps as the voice, and the
 // instrument's output is the same bit for bit with the worker on, late, or stopped mid-play. Its own
 // binary, linking the real-time engine only, so that tools/tsan.sh can build it under
 // ThreadSanitizer.
 
-#include "realtime/Instrument.h"
-#include "realtime/StringWorker.h"
-#include "realtime/Voice.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/instrument/StringWorker.h"
+#include "realtime/voice/Voice.h"
 
 #include <catch2/catch.hpp>
 

@@ -4,9 +4,9 @@
 
 #include "TestSupport.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "physics/ModalSolver.h"
-#include "physics/StringDiscretisation.h"
+#include "physics/body/FactoryBodies.h"
+#include "physics/modes/ModalSolver.h"
+#include "physics/string/StringDiscretisation.h"
 
 #include <deque>
 #include <string>

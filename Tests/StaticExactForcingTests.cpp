@@ -7,9 +7,9 @@
 #include "TestSupport.h"
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
-#include "physics/ExactOscillator.h"
-#include "physics/ModalSolver.h"
-#include "physics/StringDiscretisation.h"
+#include "physics/modes/ExactOscillator.h"
+#include "physics/modes/ModalSolver.h"
+#include "physics/string/StringDiscretisation.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,9 +1,9 @@
-// The string bank (realtime/StringBank.h): strings stepped together, their contact solves in SIMD
+// The string bank (realtime/instrument/StringBank.h): strings stepped together, their contact solves in SIMD
 // lanes, give what each string gives alone, and each lane keeps the scheme's energy balance.
 
 #include "TestSupport.h"
-#include "realtime/Instrument.h"
-#include "realtime/StringBank.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/instrument/StringBank.h"
 
 #include <catch2/catch.hpp>
 

@@ -5,14 +5,14 @@
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "physics/SharedBody.h"
-#include "physics/SpringLoadedModes.h"
-#include "physics/StringDiscretisation.h"
-#include "physics/StringModel.h"
-#include "realtime/Instrument.h"
-#include "realtime/SympatheticStrings.h"
-#include "realtime/VoicePack.h"
+#include "physics/body/FactoryBodies.h"
+#include "physics/body/SharedBody.h"
+#include "physics/string/SpringLoadedModes.h"
+#include "physics/string/StringDiscretisation.h"
+#include "physics/string/StringModel.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/sympathetic/SympatheticStrings.h"
+#include "realtime/instrument/VoicePack.h"
 
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>

@@ -4,9 +4,9 @@
 #include "offline/Analysis.h"
 #include "offline/DstTransform.h"
 #include "offline/Scene.h"
-#include "physics/ModalSolver.h"
-#include "realtime/Instrument.h"
-#include "realtime/Voice.h"
+#include "physics/modes/ModalSolver.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/voice/Voice.h"
 
 #include <catch2/catch.hpp>
 

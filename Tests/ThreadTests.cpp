@@ -5,10 +5,10 @@
 #include "TestSupport.h"
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
-#include "physics/ContactLaw.h"
-#include "physics/ForcePluck.h"
-#include "physics/SpringLoadedModes.h"
-#include "physics/StringDiscretisation.h"
+#include "physics/contact/ContactLaw.h"
+#include "physics/string/ForcePluck.h"
+#include "physics/string/SpringLoadedModes.h"
+#include "physics/string/StringDiscretisation.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,9 +1,9 @@
-// Tuning (Engine/realtime/Tuning.h): the drone's pure intervals, Scala scales and keyboard maps,
+// Tuning (Engine/realtime/playing/Tuning.h): the drone's pure intervals, Scala scales and keyboard maps,
 // and what the instrument plays with them.
 
 #include "offline/Analysis.h"
-#include "realtime/Instrument.h"
-#include "realtime/Tuning.h"
+#include "realtime/instrument/Instrument.h"
+#include "realtime/playing/Tuning.h"
 
 #include <catch2/catch.hpp>
 

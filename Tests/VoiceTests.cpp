@@ -5,7 +5,7 @@
 #include "offline/Analysis.h"
 #include "offline/AutomaticQuality.h"
 #include "offline/OfflineRender.h"
-#include "realtime/Voice.h"
+#include "realtime/voice/Voice.h"
 
 #include <catch2/catch.hpp>
 

@@ -19,8 +19,8 @@ if [ "$which" = scene ] || [ "$which" = all ]; then
     mkdir -p build-fuzz/corpus
     cp Tests/scenes/corpus/*.json Resources/Scenes/*.json build-fuzz/corpus/
     clang++ -std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-        -IEngine Tests/Fuzz/SceneParserFuzzer.cpp Engine/offline/Scene.cpp Engine/physics/Obstacle.cpp \
-        Engine/physics/StringModel.cpp \
+        -IEngine Tests/Fuzz/SceneParserFuzzer.cpp Engine/offline/Scene.cpp Engine/physics/contact/Obstacle.cpp \
+        Engine/physics/string/StringModel.cpp \
         -o build-fuzz/scene-parser-fuzzer
     ./build-fuzz/scene-parser-fuzzer -max_total_time="$seconds" -max_len=4096 -artifact_prefix=build-fuzz/ \
         build-fuzz/corpus

@@ -3,7 +3,7 @@
 // scene needs. OFF.
 
 #include "offline/Scene.h"
-#include "realtime/Quality.h"
+#include "realtime/voice/Quality.h"
 
 namespace jawari
 {

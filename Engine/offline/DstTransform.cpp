@@ -1,7 +1,7 @@
 #include "offline/DstTransform.h"
 
 #include "offline/FftwPlanner.h"
-#include "physics/ModalKernels.h"
+#include "physics/modes/ModalKernels.h"
 
 #include <fftw3.h>
 

@@ -3,7 +3,7 @@
 // x_i = i L/(M+1) with every contact point on its own node, q <-> u is a DST-I (FFTW's RODFT00),
 // O(M log M) a step instead of O(M P). Many contact points (a sampled bridge) need it; a few do not.
 
-#include "physics/ModalSolver.h"
+#include "physics/modes/ModalSolver.h"
 
 #include <vector>
 

@@ -5,10 +5,10 @@
 #include "offline/DstTransform.h"
 #include "offline/RealtimeRender.h"
 #include "offline/Resampler.h"
-#include "physics/ModalBody.h"
-#include "physics/ModalSolver.h"
-#include "physics/StringDiscretisation.h"
-#include "realtime/Denormals.h"
+#include "physics/body/ModalBody.h"
+#include "physics/modes/ModalSolver.h"
+#include "physics/string/StringDiscretisation.h"
+#include "realtime/voice/Denormals.h"
 
 #include <algorithm>
 #include <atomic>

@@ -2,9 +2,9 @@
 
 #include "offline/AutomaticQuality.h"
 #include "offline/CpuClock.h"
-#include "physics/SharedBody.h"
-#include "realtime/Decimator.h"
-#include "realtime/Denormals.h"
+#include "physics/body/SharedBody.h"
+#include "realtime/voice/Decimator.h"
+#include "realtime/voice/Denormals.h"
 
 #include <algorithm>
 #include <cmath>

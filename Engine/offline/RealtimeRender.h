@@ -4,7 +4,7 @@
 // SharedBody, stepped as the instrument steps them. OFF.
 
 #include "offline/OfflineRender.h"
-#include "realtime/Voice.h"
+#include "realtime/voice/Voice.h"
 
 namespace jawari
 {

@@ -3,13 +3,13 @@
 // field checked. A bad scene throws SceneError naming the field by its path, e.g.
 // "obstacles[1].stiffness: must be > 0 (got -3)". OFF.
 
-#include "physics/ContactMethod.h"
-#include "physics/ForcePluck.h"
-#include "physics/ModalBody.h"
-#include "physics/Obstacle.h"
-#include "physics/Pickup.h"
-#include "physics/Polarisations.h"
-#include "physics/StringModel.h"
+#include "physics/contact/ContactMethod.h"
+#include "physics/string/ForcePluck.h"
+#include "physics/body/ModalBody.h"
+#include "physics/contact/Obstacle.h"
+#include "physics/modes/Pickup.h"
+#include "physics/string/Polarisations.h"
+#include "physics/string/StringModel.h"
 
 #include <optional>
 #include <stdexcept>

@@ -2,8 +2,8 @@
 // obstacles that stand on it; its coupling.
 #include "offline/SceneReader.h"
 
-#include "physics/FactoryBodies.h"
-#include "realtime/SympatheticStrings.h"
+#include "physics/body/FactoryBodies.h"
+#include "realtime/sympathetic/SympatheticStrings.h"
 
 #include <algorithm>
 #include <stdexcept>

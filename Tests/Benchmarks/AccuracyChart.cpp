@@ -15,9 +15,9 @@
 #include "offline/Analysis.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/FactoryBodies.h"
-#include "physics/StringModel.h"
-#include "realtime/Quality.h"
+#include "physics/body/FactoryBodies.h"
+#include "physics/string/StringModel.h"
+#include "realtime/voice/Quality.h"
 
 #include <algorithm>
 #include <cstdio>

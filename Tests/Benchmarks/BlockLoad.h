@@ -3,7 +3,7 @@
 // histogram, so an hour of 32-sample blocks takes no more memory than a second) and the slowest
 // blocks with what the instrument did in them (jawari-soak).
 
-#include "realtime/Instrument.h"
+#include "realtime/instrument/Instrument.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -8,8 +8,8 @@
 
 #include "offline/CpuClock.h"
 #include "offline/Scene.h"
-#include "realtime/Denormals.h"
-#include "realtime/Voice.h"
+#include "realtime/voice/Denormals.h"
+#include "realtime/voice/Voice.h"
 
 #include <cstdio>
 #include <string>

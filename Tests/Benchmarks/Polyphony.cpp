@@ -11,7 +11,7 @@
 //                                                 bank in each group size, lanes or scalar solves
 
 #include "offline/CpuClock.h"
-#include "realtime/Instrument.h"
+#include "realtime/instrument/Instrument.h"
 
 #include <algorithm>
 #include <cstdio>

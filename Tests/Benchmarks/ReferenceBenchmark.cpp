@@ -6,10 +6,10 @@
 #include "offline/CpuClock.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/ModalKernels.h"
-#include "realtime/Denormals.h"
-#include "realtime/Quality.h"
-#include "realtime/Voice.h"
+#include "physics/modes/ModalKernels.h"
+#include "realtime/voice/Denormals.h"
+#include "realtime/voice/Quality.h"
+#include "realtime/voice/Voice.h"
 
 #include <cmath>
 #include <vector>

@@ -38,7 +38,7 @@
 #include "offline/CpuClock.h"
 #include "offline/OfflineRender.h"
 #include "offline/Scene.h"
-#include "physics/Obstacle.h"
+#include "physics/contact/Obstacle.h"
 
 #include <algorithm>
 #include <cmath>

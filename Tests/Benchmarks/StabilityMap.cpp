@@ -9,8 +9,8 @@
 //   jawari-stability [out.csv]
 
 #include "offline/Scene.h"
-#include "physics/ModalSolver.h"
-#include "realtime/Voice.h"
+#include "physics/modes/ModalSolver.h"
+#include "realtime/voice/Voice.h"
 
 #include <cmath>
 #include <cstdio>
