@@ -179,6 +179,31 @@ TEST_CASE("points out of the string's reach never touch, and leaving them out ch
     CHECK(relL2 < 1e-12);       // measured 0: the same arithmetic on the points that touch
 }
 
+namespace
+{
+// Where the live points a split step left out are, from the whole modal state (`shapes`: P x M, the
+// sine modes at the contact points): the highest penetration among them (< 0: all off their obstacle)
+// and how many were checked.
+std::pair<double, long> leftOutPenetration(ModalSolver& split, const ModalSolverConfig& config,
+                                           const std::vector<double>& shapes)
+{
+    const auto q = split.modalState();
+    const int P = static_cast<int>(config.contacts.size()), M = config.modes.size();
+    double highest = -1.0;
+    long checked = 0;
+    for (int j = 0; j < P; ++j)
+        if (split.pointLive(j) && !split.pointSolved(j))
+        {
+            double uj = 0.0;
+            for (int p = 0; p < M; ++p)
+                uj += shapes[size_t(j) * M + p] * q[size_t(p)];
+            highest = std::max(highest, config.contacts[j].height - uj);
+            ++checked;
+        }
+    return {highest, checked};
+}
+}  // namespace
+
 TEST_CASE("A step over a thousand modes or more solves only the points its high modes may carry to the bridge "
           "(EngagedPoints), and its motion is the step's over every live point to rounding")
 {
@@ -217,17 +242,9 @@ TEST_CASE("A step over a thousand modes or more solves only the points its high 
         pressingSteps += whole.lastMaxPenetration() > 0.0;
         if (n % 32 == 0)
         {
-            // Where the live points it left out are, from the whole modal state: off their obstacle.
-            const auto q = split.modalState();
-            for (int j = 0; j < P; ++j)
-                if (split.pointLive(j) && !split.pointSolved(j))
-                {
-                    double uj = 0.0;
-                    for (int p = 0; p < M; ++p)
-                        uj += shapes[size_t(j) * M + p] * q[size_t(p)];
-                    worstLeftOut = std::max(worstLeftOut, config.contacts[j].height - uj);
-                    ++leftOutChecks;
-                }
+            const auto [highest, checked] = leftOutPenetration(split, config, shapes);
+            worstLeftOut = std::max(worstLeftOut, highest);
+            leftOutChecks += checked;
         }
     }
     const auto& counters = split.splitCounters();

@@ -488,68 +488,70 @@ TEST_CASE("With two polarisations the instrument plays in tune on the tanpura's 
     CHECK(across[1] / most[1] == Approx(1.23).epsilon(0.3));
 }
 
-TEST_CASE("The guards act and are counted: samples beyond the output's ceiling, non-finite samples, blow-ups",
-          "[instrument]")
+TEST_CASE("The output guard acts and is counted: eight loud notes at +24 dB held at its ceiling, what lies "
+          "between full scale and it passed", "[instrument]")
 {
     // Eight loud notes at +24 dB: far beyond full scale, and beyond the guard's +12 dBFS.
+    auto pack = buildVoicePack(freeStructure());
+    Instrument instrument;
+    auto c = freeControls();
+    c.gainDb = 24.0;
+    test::start(instrument, *pack, c);
+    instrument.clearActivity();
+    for (int i = 0; i < kMidiVoices; ++i)
+        instrument.noteOn(48 + 2 * i, 1.0);
+    std::vector<float> l(4800), r(4800);
+    instrument.render(l.data(), r.data(), 4800);
+    float peak = 0.0f;
+    long beyondFullScale = 0;
+    for (size_t n = 0; n < l.size(); ++n)
     {
-        auto pack = buildVoicePack(freeStructure());
-        Instrument instrument;
-        auto c = freeControls();
-        c.gainDb = 24.0;
-        test::start(instrument, *pack, c);
-        instrument.clearActivity();
-        for (int i = 0; i < kMidiVoices; ++i)
-            instrument.noteOn(48 + 2 * i, 1.0);
-        std::vector<float> l(4800), r(4800);
-        instrument.render(l.data(), r.data(), 4800);
-        float peak = 0.0f;
-        long beyondFullScale = 0;
-        for (size_t n = 0; n < l.size(); ++n)
-        {
-            peak = std::max({peak, std::abs(l[n]), std::abs(r[n])});
-            beyondFullScale += (std::abs(l[n]) > 1.0f ? 1 : 0) + (std::abs(r[n]) > 1.0f ? 1 : 0);
-        }
-        InstrumentSnapshot snapshot;
-        REQUIRE(instrument.snapshots().read(snapshot));
-        INFO("peak " << peak << ", samples beyond full scale " << beyondFullScale << ", limited "
-                     << instrument.limitedSamples() << " (snapshot " << snapshot.limited << ")");
-        CHECK(peak == kOutputCeiling);
-        CHECK(instrument.limitedSamples() > 0);
-        CHECK(beyondFullScale > instrument.limitedSamples());  // between full scale and the ceiling: passed
-        CHECK(instrument.activity().limitedSamples == instrument.limitedSamples());
-        CHECK(snapshot.limited > 0);
-        CHECK(snapshot.limited <= instrument.limitedSamples());
-        CHECK(instrument.blowUps() == 0);
+        peak = std::max({peak, std::abs(l[n]), std::abs(r[n])});
+        beyondFullScale += (std::abs(l[n]) > 1.0f ? 1 : 0) + (std::abs(r[n]) > 1.0f ? 1 : 0);
     }
+    InstrumentSnapshot snapshot;
+    REQUIRE(instrument.snapshots().read(snapshot));
+    INFO("peak " << peak << ", samples beyond full scale " << beyondFullScale << ", limited "
+                 << instrument.limitedSamples() << " (snapshot " << snapshot.limited << ")");
+    CHECK(peak == kOutputCeiling);
+    CHECK(instrument.limitedSamples() > 0);
+    CHECK(beyondFullScale > instrument.limitedSamples());  // between full scale and the ceiling: passed
+    CHECK(instrument.activity().limitedSamples == instrument.limitedSamples());
+    CHECK(snapshot.limited > 0);
+    CHECK(snapshot.limited <= instrument.limitedSamples());
+    CHECK(instrument.blowUps() == 0);
+}
+
+TEST_CASE("The output guard zeroes non-finite samples and holds what lies beyond its ceiling there", "[instrument]")
+{
     // The guard itself: NaN and the infinities, and what lies beyond the ceiling.
-    {
-        const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-        std::vector<float> y{0.5f, nan, inf, -inf, 4.0f, -4.5f, 3.9f, 1.5f, -1.0f};
-        CHECK(guardOutput(y.data(), int(y.size())) == 4);
-        CHECK(y == std::vector<float>{0.5f, 0.0f, 0.0f, 0.0f, 4.0f, -4.0f, 3.9f, 1.5f, -1.0f});
-    }
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    std::vector<float> y{0.5f, nan, inf, -inf, 4.0f, -4.5f, 3.9f, 1.5f, -1.0f};
+    CHECK(guardOutput(y.data(), int(y.size())) == 4);
+    CHECK(y == std::vector<float>{0.5f, 0.0f, 0.0f, 0.0f, 4.0f, -4.0f, 3.9f, 1.5f, -1.0f});
+}
+
+TEST_CASE("A string that runs away is restarted from rest and counted, the count outliving its pack", "[instrument]")
+{
     // The explicit penalty force on the tanpura's point at draft's rate runs away: the voice's guard
     // restarts the string from rest, counted, and the count outlives the pack it happened in.
-    {
-        auto s = test::scriptStructure(ObstacleShape::point);
-        s.method = ContactMethod::penalty;
-        auto pack = buildVoicePack(s), next = buildVoicePack(s);
-        Instrument instrument;
-        instrument.install(pack.get(), nullptr);
-        instrument.setControls(InstrumentControls{});
-        instrument.settleControls();
-        instrument.noteOn(55, 1.0);
-        play(instrument, 0.5);
-        const long blowUps = instrument.blowUps();
-        InstrumentSnapshot snapshot;
-        REQUIRE(instrument.snapshots().read(snapshot));
-        INFO("blow-ups " << blowUps << " (snapshot " << snapshot.blowUps << "), limited "
-                         << instrument.limitedSamples());
-        CHECK(blowUps > 0);
-        CHECK(snapshot.blowUps > 0);
-        CHECK(instrument.limitedSamples() == 0);  // the voice's guard muted it first
-        instrument.install(next.get(), pack.get());
-        CHECK(instrument.blowUps() == blowUps);
-    }
+    auto s = test::scriptStructure(ObstacleShape::point);
+    s.method = ContactMethod::penalty;
+    auto pack = buildVoicePack(s), next = buildVoicePack(s);
+    Instrument instrument;
+    instrument.install(pack.get(), nullptr);
+    instrument.setControls(InstrumentControls{});
+    instrument.settleControls();
+    instrument.noteOn(55, 1.0);
+    play(instrument, 0.5);
+    const long blowUps = instrument.blowUps();
+    InstrumentSnapshot snapshot;
+    REQUIRE(instrument.snapshots().read(snapshot));
+    INFO("blow-ups " << blowUps << " (snapshot " << snapshot.blowUps << "), limited "
+                     << instrument.limitedSamples());
+    CHECK(blowUps > 0);
+    CHECK(snapshot.blowUps > 0);
+    CHECK(instrument.limitedSamples() == 0);  // the voice's guard muted it first
+    instrument.install(next.get(), pack.get());
+    CHECK(instrument.blowUps() == blowUps);
 }

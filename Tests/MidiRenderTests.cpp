@@ -443,26 +443,43 @@ TEST_CASE("jawari-render --midi --second-core writes the same file to the last b
     }
 }
 
+namespace
+{
+std::string fileBytes(const fs::path& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Bad MIDI files beside a good one's `bytes`: random bytes, the good file as type 2, a file holding an
+// escape event (raw bytes for the device, not read by JUCE), and one holding only a tempo.
+struct BadMidi
+{
+    std::string noise, typeTwo, escaped, tempoOnly;
+};
+BadMidi badMidiFiles(const fs::path& dir, const std::string& bytes)
+{
+    BadMidi bad;
+    std::mt19937 rng(11);
+    bad.noise.assign(2000, '\0');
+    for (auto& c : bad.noise)
+        c = char(rng());
+    bad.typeTwo = bytes;
+    bad.typeTwo[9] = 2;
+    const juce::uint8 escape[] = {0xf7, 0x03, 0x90, 0x3c, 0x64};
+    bad.escaped = writeMidi(dir / "escape.mid", {track({{0, juce::MidiMessage(escape, 5)}})}, 0);
+    bad.tempoOnly = writeMidi(dir / "tempo-only.mid", {track({{0, juce::MidiMessage::tempoMetaEvent(500000)}})}, 0);
+    return bad;
+}
+}  // namespace
+
 TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and option mixes with status 2")
 {
     const auto dir = scratch();
     const auto wav = dir / "never.wav";
     const auto good = heldA3(dir / "good.mid");
-    std::string bytes;
-    {
-        std::ifstream in(good, std::ios::binary);
-        bytes.assign(std::istreambuf_iterator<char>(in), {});
-    }
-    std::mt19937 rng(11);
-    std::string noise(2000, '\0');
-    for (auto& c : noise)
-        c = char(rng());
-    auto typeTwo = bytes;
-    typeTwo[9] = 2;
-    const juce::uint8 escape[] = {0xf7, 0x03, 0x90, 0x3c, 0x64};  // raw bytes for the device: not read by JUCE
-    const auto escaped = writeMidi(dir / "escape.mid", {track({{0, juce::MidiMessage(escape, 5)}})}, 0);
-    const auto tempoOnly =
-        writeMidi(dir / "tempo-only.mid", {track({{0, juce::MidiMessage::tempoMetaEvent(500000)}})}, 0);
+    const std::string bytes = fileBytes(good);
+    const auto [noise, typeTwo, escaped, tempoOnly] = badMidiFiles(dir, bytes);
     jawari::plugin::JawariAudioProcessor p;
     const auto xml = p.state().toXmlString().toStdString();
 
@@ -509,6 +526,13 @@ TEST_CASE("jawari-render --midi refuses bad MIDI files, presets, states and opti
         CHECK_THAT(o.output, Catch::Matchers::Contains(c.expected));
         CHECK_FALSE(fs::exists(wav));
     }
+}
+
+TEST_CASE("jawari-render --midi refuses every truncation of a good file with status 2, an existing output kept")
+{
+    const auto dir = scratch();
+    const auto wav = dir / "never.wav";
+    const std::string bytes = fileBytes(heldA3(dir / "good.mid"));
     // Every truncation of a good file is refused, and an existing output stays as it was.
     write(wav, "previous contents");
     for (size_t length = 0; length < bytes.size(); ++length)

@@ -183,6 +183,64 @@ TEST_CASE("new voices built on a control thread reach the audio thread lock-free
 
 #include "realtime/instrument/Instrument.h"
 
+namespace
+{
+// Draft quality on `shape` (a point at 0.3 or a 20 mm parabola at 0.01, of the string's length),
+// solved by `method`, in two polarisations with a thread across a parabola (`twoAndThread`), the
+// thread a contact (`rigidThread`: its strings take the static-exact forcing) or a spring and damper.
+InstrumentStructure draftStructure(ObstacleShape shape, ContactMethod method, bool twoAndThread, bool rigidThread)
+{
+    InstrumentStructure s;
+    s.quality = 0;
+    s.shape = shape;
+    s.method = method;
+    s.obstaclePosition = shape == ObstacleShape::parabola ? 0.01 : 0.3;
+    s.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
+    s.polarisations = twoAndThread ? 2 : 1;
+    s.thread = twoAndThread;  // across the parabola; a point has none
+    s.threadModel = rigidThread ? ThreadModel::contact : ThreadModel::springDamper;
+    return s;
+}
+
+// 120 blocks of 512 and 37 samples, allocations counted: ten notes (the ninth and tenth steal), at
+// block 20 a bend, new contact, damping and drone controls and the sustain pedal, at 40 a new pack
+// (`second`, taking `first`'s motion), at 60 the notes released.
+long allocationsOverPerformance(Instrument& instrument, VoicePack& first, VoicePack& second, std::vector<float>& left,
+                                std::vector<float>& right)
+{
+    InstrumentControls c;
+    CountAllocations guard;
+    for (int b = 0; b < 120; ++b)
+    {
+        if (b < 10)
+            instrument.noteOn(50 + 2 * b, 0.9);
+        if (b == 20)
+        {
+            instrument.pitchBend(0.7);
+            c.obstacleHeight = 2e-4;
+            c.stiffness = 1e10;
+            c.exponent = 2.0;
+            c.dampingCurve[3] = 4.0;
+            c.decayScale = 2.0;
+            c.drone = true;
+            c.droneTempo = 300.0;
+            instrument.setControls(c);
+            instrument.sustain(true);
+        }
+        if (b == 40)
+            instrument.install(&second, &first);
+        if (b == 60)
+        {
+            for (int n = 0; n < 10; ++n)
+                instrument.noteOff(50 + 2 * n);
+            instrument.sustain(false);
+        }
+        instrument.render(left.data(), right.data(), b % 2 == 0 ? 512 : 37);
+    }
+    return allocations;
+}
+}  // namespace
+
 TEST_CASE("The instrument plays notes and drone and takes automation and new packs without allocating")
 {
     // Every obstacle shape (one point, a parabolic bridge, five frets), the point and the bridge
@@ -216,15 +274,7 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
             const auto [shape, twoAndThread, rigidThread] = strings[shapeIndex];
             const auto method = methods[methodIndex];
             const auto [scheduling, secondCore] = steppings[(shapeIndex + methodIndex) % std::size(steppings)];
-            InstrumentStructure s;
-            s.quality = 0;
-            s.shape = shape;
-            s.method = method;
-            s.obstaclePosition = shape == ObstacleShape::parabola ? 0.01 : 0.3;
-            s.obstacleWidth = shape == ObstacleShape::parabola ? 0.02 : 1e-3;
-            s.polarisations = twoAndThread ? 2 : 1;
-            s.thread = twoAndThread;  // across the parabola; a point has none
-            s.threadModel = rigidThread ? ThreadModel::contact : ThreadModel::springDamper;
+            auto s = draftStructure(shape, method, twoAndThread, rigidThread);
             auto first = buildVoicePack(s);
             s.obstaclePosition += 0.01;
             auto second = buildVoicePack(s);  // built off the audio thread, as the plugin's builder does
@@ -239,38 +289,7 @@ TEST_CASE("The instrument plays notes and drone and takes automation and new pac
             instrument.install(first.get(), nullptr);
             std::vector<float> left(512), right(512);
             InstrumentSnapshot snapshot;
-            long counted = 0;
-            {
-                CountAllocations guard;
-                for (int b = 0; b < 120; ++b)
-                {
-                    if (b < 10)
-                        instrument.noteOn(50 + 2 * b, 0.9);  // the ninth and tenth steal
-                    if (b == 20)
-                    {
-                        instrument.pitchBend(0.7);
-                        c.obstacleHeight = 2e-4;
-                        c.stiffness = 1e10;
-                        c.exponent = 2.0;
-                        c.dampingCurve[3] = 4.0;
-                        c.decayScale = 2.0;
-                        c.drone = true;
-                        c.droneTempo = 300.0;
-                        instrument.setControls(c);
-                        instrument.sustain(true);
-                    }
-                    if (b == 40)
-                        instrument.install(second.get(), first.get());
-                    if (b == 60)
-                    {
-                        for (int n = 0; n < 10; ++n)
-                            instrument.noteOff(50 + 2 * n);
-                        instrument.sustain(false);
-                    }
-                    instrument.render(left.data(), right.data(), b % 2 == 0 ? 512 : 37);
-                }
-                counted = allocations;
-            }
+            const long counted = allocationsOverPerformance(instrument, *first, *second, left, right);
             INFO("shape " << int(shape) << " two polarisations and thread " << twoAndThread << " method " << int(method)
                           << " scheduling " << int(scheduling) << " second core " << secondCore);
             CHECK(counted == 0);
@@ -373,6 +392,39 @@ TEST_CASE("The counters see an allocation and a lock on a thread marked real-tim
         WARN("locks are not counted in this build (LockCounter.h)");
 }
 
+namespace
+{
+// Block b's events of the twelve strings' performance: eight notes, the drone from 20 (twelve strings),
+// the bend at 60 and 200, new damping and height at 100, a new pack at 150, the notes released at
+// 250, one plucked again at 320.
+void twelveStringsEvent(Instrument& instrument, InstrumentControls& c, VoicePack& first, VoicePack& second, int b)
+{
+    if (b < 8)
+        instrument.noteOn(45 + 3 * b, 0.6);
+    if (b == 20)
+    {
+        c.drone = true;  // four strings more: twelve
+        c.droneTempo = 240.0;
+        instrument.setControls(c);
+    }
+    if (b == 60 || b == 200)
+        instrument.pitchBend(b == 60 ? 0.5 : -0.3);  // every string retuned
+    if (b == 100)
+    {
+        c.decayScale = 2.0;  // retuned again: new damping
+        c.obstacleHeight = 2e-4;
+        instrument.setControls(c);
+    }
+    if (b == 150)
+        instrument.install(&second, &first);
+    if (b == 250)
+        for (int n = 0; n < 8; ++n)
+            instrument.noteOff(45 + 3 * n);
+    if (b == 320)
+        instrument.noteOn(60, 0.8);  // a string released, plucked again
+}
+}  // namespace
+
 TEST_CASE("Neither the audio thread nor the worker allocates or locks, twelve strings on two cores through notes, "
           "retunes, releases and a new pack")
 {
@@ -399,29 +451,7 @@ TEST_CASE("Neither the audio thread nor the worker allocates or locks, twelve st
     test::countOnThisThread(&audio);
     for (int b = 0; b < 400; ++b)
     {
-        if (b < 8)
-            instrument.noteOn(45 + 3 * b, 0.6);
-        if (b == 20)
-        {
-            c.drone = true;  // four strings more: twelve
-            c.droneTempo = 240.0;
-            instrument.setControls(c);
-        }
-        if (b == 60 || b == 200)
-            instrument.pitchBend(b == 60 ? 0.5 : -0.3);  // every string retuned
-        if (b == 100)
-        {
-            c.decayScale = 2.0;  // retuned again: new damping
-            c.obstacleHeight = 2e-4;
-            instrument.setControls(c);
-        }
-        if (b == 150)
-            instrument.install(second.get(), first.get());
-        if (b == 250)
-            for (int n = 0; n < 8; ++n)
-                instrument.noteOff(45 + 3 * n);
-        if (b == 320)
-            instrument.noteOn(60, 0.8);  // a string released, plucked again
+        twelveStringsEvent(instrument, c, *first, *second, b);
         instrument.render(left.data(), right.data(), b % 7 == 3 ? 37 : 128);
         mostStrings = std::max(mostStrings, instrument.activeStrings());
         // Between blocks the worker finishes what it was late with: each block posts it a job.

@@ -119,6 +119,20 @@ inline void start(Instrument& instrument, VoicePack& pack, const InstrumentContr
     instrument.settleControls();
 }
 
+// The voice of a scene's string, obstacles, pluck and pickup at a given configuration.
+inline VoiceConfig voiceFor(const Scene& scene, int modes, int oversampling, double hostRate)
+{
+    VoiceConfig v;
+    v.string = scene.string;
+    v.obstacles = scene.obstacles;
+    v.excitationPosition = scene.excitation.position;
+    v.pickupPosition = scene.pickup.position;
+    v.modes = modes;
+    v.oversampling = oversampling;
+    v.hostRateHz = hostRate;
+    return v;
+}
+
 // The paper's string (docs/design.md section 3) with a chosen damping law.
 inline StringParameters paperString(DampingLaw law = DampingLaw::valette)
 {
