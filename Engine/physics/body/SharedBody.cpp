@@ -101,14 +101,15 @@ void SharedBody::takeMotionFrom(const SharedBody& other)
         return;
     }
     silence();
-    double stiffness = 0.0;  // 1 / sum_j kappa_j^2 c_j
+    // The bridge's static compliance sum_j kappa_j^2 c_j, c_j = 1 / (m_j C2_j) = 1 / (2 potential_j).
+    double compliance = 0.0;
     for (size_t k = 0; k < z_.size(); ++k)
-        stiffness += kappa_[k] * kappa_[k] / (2.0 * potential_[k]);
-    if (!(stiffness > 0.0))
+        compliance += kappa_[k] * kappa_[k] / (2.0 * potential_[k]);
+    if (!(compliance > 0.0))
         return;  // nothing reaches this body: its bridge never moves
     for (size_t k = 0; k < z_.size(); ++k)
     {
-        const double share = kappa_[k] / (2.0 * potential_[k]) / stiffness;
+        const double share = kappa_[k] / (2.0 * potential_[k]) / compliance;
         z_[k] = share * other.bridge_;
         zPrevious_[k] = share * other.bridgeBefore_;
     }
