@@ -191,9 +191,7 @@ void checkBodyModes(const ModalBody& body)
     }
     catch (const BodyRangeError& e)
     {
-        const std::string what = e.what(), field = e.field;
-        throw SceneError("body.modes[" + std::to_string(e.mode) + "]." + field,
-                         what.substr(std::min(what.size(), what.find(field + " ") + field.size() + 1)));
+        throw SceneError("body.modes[" + std::to_string(e.mode) + "]." + e.field, e.requirement);
     }
     catch (const std::invalid_argument& e)
     {
@@ -213,14 +211,13 @@ void scaleBodyDamping(ObjectReader& r, ModalBody& body)
         mode.sigma *= scale;
 }
 
-double readCoupling(ObjectReader& r, double fallback)
+// The body's coupling within [0, kBodyStrongestCoupling], else a SceneError at `path`.
+void checkCoupling(const std::string& path, double coupling)
 {
-    const double c = r.nonNegative("coupling", fallback);
-    if (c > kBodyStrongestCoupling)
-        throw SceneError(r.at("coupling"), "must be within [0, " + show(kBodyStrongestCoupling)
-                                               + "]: it makes each mode coupling^2 lighter at the bridge (got "
-                                               + show(c) + ")");
-    return c;
+    if (!(coupling >= 0.0 && coupling <= kBodyStrongestCoupling))
+        throw SceneError(path, "must be within [0, " + show(kBodyStrongestCoupling)
+                                   + "]: it makes each mode coupling^2 lighter at the bridge (got " + show(coupling)
+                                   + ")");
 }
 }  // namespace
 
@@ -246,7 +243,8 @@ SceneBody readBody(const json& value, const Scene& scene)
     checkBodyModes(body.body);
     scaleBodyDamping(r, body.body);
     body.obstacles = readBodyObstacles(r, scene);
-    body.coupling = readCoupling(r, body.coupling);
+    body.coupling = r.number("coupling", body.coupling);
+    checkCoupling(r.at("coupling"), body.coupling);
     if (r.has("strings"))
     {
         const json& strings = r.raw("strings");
@@ -300,9 +298,7 @@ void validateSceneBody(const Scene& scene)
                                                   "or the reference");
     }
     checkBodyModes(body.body);
-    if (!(body.coupling >= 0.0 && body.coupling <= kBodyStrongestCoupling))
-        throw SceneError("body.coupling", "must be within [0, " + show(kBodyStrongestCoupling) + "] (got "
-                                              + show(body.coupling) + ")");
+    checkCoupling("body.coupling", body.coupling);
 }
 
 }  // namespace jawari::scene_reading

@@ -46,7 +46,7 @@ void validateBody(const ModalBody& body)
     {
         const auto& m = body.modes[k];
         auto refuse = [&](const char* field, const std::string& range) {
-            throw BodyRangeError(int(k), field, "mode " + std::to_string(k) + ": its " + field + " must be " + range);
+            throw BodyRangeError(int(k), field, "must be " + range);
         };
         if (!(m.frequencyHz > 0.0 && m.frequencyHz <= kBodyHighestHz))
             refuse("frequency", "within (0, " + shortNumber(kBodyHighestHz) + "] Hz (got " + shortNumber(m.frequencyHz) + ")");

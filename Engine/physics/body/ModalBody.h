@@ -120,15 +120,19 @@ inline constexpr double kBodyStrongestCoupling = 100.0;
 inline constexpr double kBodyLoudestRadiation = 1e6;
 
 // A body's mode out of its range: which mode, which field (its name in a scene: "frequency",
-// "damping", "mass", "radiation", "correlation"), and what its range is.
+// "damping", "mass", "radiation", "correlation"), and what it must be ("must be within ...").
 struct BodyRangeError : std::invalid_argument
 {
-    BodyRangeError(int modeIndex, std::string fieldName, const std::string& what)
-        : std::invalid_argument(what), mode(modeIndex), field(std::move(fieldName))
+    BodyRangeError(int modeIndex, std::string fieldName, std::string requirementText)
+        : std::invalid_argument("mode " + std::to_string(modeIndex) + ": its " + fieldName + " " + requirementText)
+        , mode(modeIndex)
+        , field(std::move(fieldName))
+        , requirement(std::move(requirementText))
     {
     }
     int mode;
     std::string field;
+    std::string requirement;
 };
 
 // Checks a body's modes (each within the ranges above) and listeners (1 to kMostListeners, named,
